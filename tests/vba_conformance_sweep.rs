@@ -250,12 +250,32 @@ fn format_passes_null_and_format_number_refuses_text() {
 
 // "^ operator": VBA computes `0 ^ 0` as IEEE 754's pow does, 1 (the page names no exception
 // for it, and LibreOffice's VBA mode gives 1), where the sheet's `^` is #NUM!; it raised
-// Overflow (error 6). `0 / 0` stays Division by zero (error 11): Microsoft's VBA reference
-// says nothing of it ("Division by zero (Error 11)") and LibreOffice's 11 is no oracle there.
+// Overflow (error 6).
 #[test]
 fn zero_to_the_zero_is_one() {
     let got = each(&["0 ^ 0", "0# ^ 0", "CInt(0) ^ CLng(0)"]);
     assert_eq!(got, ["Double 1", "Double 1", "Double 1"]);
+}
+
+// `0 / 0` has no value, where `1 / 0` has an infinite one: Microsoft's Knowledge Base article
+// Q42473, "'Overflow' Error Might Be the Result of 0/0", says its BASIC raises Overflow there
+// (`(b# - c#) / (b# - c#)`), and VBA raises error 6 for it as well (help-vba.com's "0で除算
+// しました" page: a zero numerator over a zero denominator is オーバーフロー, Overflow). Any
+// other number over zero, and `\` and `Mod` by zero, are Division by zero (error 11, "Division
+// by zero (Error 11)"). It was 11.
+#[test]
+fn zero_over_zero_is_overflow() {
+    let got = each(&["0 / 0", "0# / 0", "CLng(0) / CLng(0)", "Empty / 0", "1 / 0", "0 \\ 0", "0 Mod 0"]);
+    assert_eq!(got, ["Err 6", "Err 6", "Err 6", "Err 6", "Err 11", "Err 11", "Err 11"]);
+}
+
+// [MS-VBAL] 5.6.9.5 (relational operators): a comparison's value is a Boolean; [MS-VBAL]
+// 5.6.9.3 (arithmetic operators' declared types): a Boolean with an Integer adds as an
+// Integer, True being -1 ("Boolean data type"). `(1 = 1) + 1` was a Double.
+#[test]
+fn a_comparison_is_a_boolean_in_arithmetic() {
+    let got = each(&["(1 = 1) + 1", "(2 > 1) * 3", "(1 <> 1) - CLng(1)"]);
+    assert_eq!(got, ["Integer 0", "Integer -3", "Long -1"]);
 }
 
 // "Boolean data type": "When Boolean values are converted to other data types, False becomes

@@ -311,3 +311,40 @@ fn font_colour_size_and_underline_go_from_the_file_to_the_macro_and_back() {
     std::fs::write(&anew, encoded.bytes()).unwrap();
     assert_eq!(python(READ_FONTS, &[&anew]).lines().collect::<Vec<_>>(), expected);
 }
+
+/// openpyxl's book: A1 in 14-point red single-underlined Arial.
+const WRITE_FONT: &str = r#"
+import sys
+from openpyxl import Workbook
+from openpyxl.styles import Font
+wb = Workbook()
+ws = wb.active
+ws["A1"] = 1
+ws["A1"].font = Font(name="Arial", size=14, color="FFFF0000", underline="single")
+wb.save(sys.argv[1])
+"#;
+
+/// Reads back A1's font size, colour and underline.
+const READ_FONT: &str = r#"
+import sys
+from openpyxl import load_workbook
+f = load_workbook(sys.argv[1]).active["A1"].font
+print("size=%g color=%s underline=%s" % (f.sz, f.color.rgb, f.u))
+"#;
+
+#[test]
+fn a_package_written_anew_says_it_keeps_the_fonts_sizes_and_colours_that_it_keeps() {
+    if !openpyxl_available() {
+        return;
+    }
+    let (dir, mut doc) = book_by_openpyxl(WRITE_FONT);
+    run(&mut doc, "    Rows(5).Delete");
+    let saved = dir.path().join("saved.xlsx");
+    let encoded = doc.encode(&saved).unwrap();
+    std::fs::write(&saved, encoded.bytes()).unwrap();
+    // What openpyxl reads from the saved file is what the message must not call lost.
+    assert_eq!(python(READ_FONT, &[&saved]).trim(), "size=14 color=FFFF0000 underline=single");
+    let anew = encoded.losses.iter().find(|l| l.contains("written anew")).expect("a rewrite");
+    let lost = anew.split_once("are kept;").map(|(_, lost)| lost).expect("what is lost");
+    assert!(lost.contains("fonts' names") && !lost.contains("sizes") && !lost.contains("colours"), "{anew}");
+}

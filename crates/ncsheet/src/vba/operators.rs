@@ -45,8 +45,12 @@ pub(super) fn text_order(x: &str, y: &str, text_compare: bool) -> Ordering {
 /// no exception for it, and 1 is what IEEE 754's pow and LibreOffice's VBA mode give; `None`
 /// for any other operation.
 pub(super) fn zero_to_the_zero(op: BinOp, (a, b): (&Value, &Value)) -> Option<Value> {
-    let zero = |v: &Value| crate::eval::functions::vba::vba_number(v).is_ok_and(|n| n == 0.0);
-    (op == BinOp::Pow && zero(a) && zero(b)).then_some(Value::Number(1.0))
+    (op == BinOp::Pow && is_zero(a) && is_zero(b)).then_some(Value::Number(1.0))
+}
+
+/// Zero, or Empty or a text read as zero (the dividend of `0 / 0`).
+fn is_zero(v: &Value) -> bool {
+    crate::eval::functions::vba::vba_number(v).is_ok_and(|n| n == 0.0)
 }
 
 /// A number below zero, or a text read as one (the base of a `^` with no real value).
@@ -77,6 +81,11 @@ impl Interp<'_, '_> {
         }
         let (code, name) = match (op, err) {
             _ if error_operand => TYPE_MISMATCH,
+            // `0 / 0` is Overflow, not Division by zero: it has no value, not an infinite one.
+            // Microsoft's Knowledge Base Q42473, "'Overflow' Error Might Be the Result of 0/0",
+            // says so of its BASIC (`(b# - c#) / (b# - c#)`), and VBA raises error 6 there; a
+            // nonzero number over 0, and `\` and `Mod` by 0, stay error 11.
+            (BinOp::Div, XlError::Div0) if is_zero(a) => OVERFLOW,
             (BinOp::Div | BinOp::IntDiv | BinOp::Mod, XlError::Div0) => DIVISION_BY_ZERO,
             // "^ operator": "a number can be negative only if exponent is an integer value";
             // VBA raises Invalid procedure call for `(-8) ^ (1 / 3)`, and for `0 ^ -1`, which

@@ -14,17 +14,7 @@ use super::interp::{Interp, Run};
 use super::sheet_ops::argument;
 use super::value::{Obj, Var};
 
-/// `XlLookAt`: the whole cell must match (`xlWhole`, 1) or a part of it (`xlPart`, 2).
-const XL_WHOLE: f64 = 1.0;
-const XL_PART: f64 = 2.0;
-/// `XlFindLookIn`: formulas as written (`xlFormulas`) or values as shown (`xlValues`).
-const XL_FORMULAS: f64 = -4123.0;
-const XL_VALUES: f64 = -4163.0;
-/// `XlSearchOrder` and `XlSearchDirection`.
-const XL_BY_ROWS: f64 = 1.0;
-const XL_BY_COLUMNS: f64 = 2.0;
-const XL_NEXT: f64 = 1.0;
-const XL_PREVIOUS: f64 = 2.0;
+use super::resolve::constant_number as xl;
 
 impl Interp<'_, '_> {
     /// `rng.Replace What, Replacement, [LookAt], [SearchOrder], [MatchCase], [MatchByte],
@@ -48,7 +38,7 @@ impl Interp<'_, '_> {
         if what.is_empty() {
             return Err(self.fault_at(link.span, "Range.Replace: What:= is empty; name the text to replace"));
         }
-        let pattern = wildcard_pattern(&what, look_at == XL_WHOLE, match_case);
+        let pattern = wildcard_pattern(&what, look_at == xl("xlwhole"), match_case);
         let pattern =
             Regex::new(&pattern).map_err(|e| self.fault_at(link.span, format!("Range.Replace What:={what}: {e}")))?;
         let used = ctx.clip_to_used(sheet, rect);
@@ -88,10 +78,10 @@ impl Interp<'_, '_> {
                 Some(_) => Err(self.fault_at(link.span, format!("Range.Find {name}:= takes an Xl constant"))),
             }
         };
-        let by_values = number(2, "LookIn", XL_FORMULAS)? == XL_VALUES;
-        let whole = number(3, "LookAt", XL_PART)? == XL_WHOLE;
-        let by_columns = number(4, "SearchOrder", XL_BY_ROWS)? == XL_BY_COLUMNS;
-        let backward = number(5, "SearchDirection", XL_NEXT)? == XL_PREVIOUS;
+        let by_values = number(2, "LookIn", xl("xlformulas"))? == xl("xlvalues");
+        let whole = number(3, "LookAt", xl("xlpart"))? == xl("xlwhole");
+        let by_columns = number(4, "SearchOrder", xl("xlbyrows"))? == xl("xlbycolumns");
+        let backward = number(5, "SearchDirection", xl("xlnext"))? == xl("xlprevious");
         let match_case = self.flag_argument(link, 6, "MatchCase")?.unwrap_or(false);
         let pattern = wildcard_pattern(&what, whole, match_case);
         let pattern =
@@ -140,9 +130,9 @@ impl Interp<'_, '_> {
 
     /// LookAt:=xlPart (2, the default) or xlWhole (1).
     fn look_at(&self, link: &Link) -> Run<f64> {
-        let Some(e) = argument(link, 2, "LookAt") else { return Ok(XL_PART) };
+        let Some(e) = argument(link, 2, "LookAt") else { return Ok(xl("xlpart")) };
         match self.eval(e)? {
-            Value::Number(n) if n == XL_WHOLE || n == XL_PART => Ok(n),
+            Value::Number(n) if n == xl("xlwhole") || n == xl("xlpart") => Ok(n),
             _ => Err(self.fault_at(link.span, "Range.Replace LookAt:= is xlPart or xlWhole")),
         }
     }
@@ -174,7 +164,16 @@ fn wildcard_pattern(what: &str, whole: bool, match_case: bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::wildcard_pattern;
+    use super::{wildcard_pattern, xl};
+
+    /// Microsoft's "XlLookAt", "XlFindLookIn", "XlSearchOrder" and "XlSearchDirection"
+    /// enumeration pages, as Replace and Find read them from the one table of constants.
+    #[test]
+    fn find_and_replace_read_excels_constants_from_the_one_table() {
+        let got =
+            ["xlwhole", "xlpart", "xlformulas", "xlvalues", "xlbyrows", "xlbycolumns", "xlnext", "xlprevious"].map(xl);
+        assert_eq!(got, [1.0, 2.0, -4123.0, -4163.0, 1.0, 2.0, 1.0, 2.0]);
+    }
 
     #[test]
     fn wildcards_become_a_pattern_and_other_characters_stand_for_themselves() {

@@ -98,6 +98,16 @@ pub(super) fn is_object(lower: &str) -> bool {
     OBJECTS.contains(&lower)
 }
 
+/// The number the constant `lower` names (`"xlwhole"` is 1), for the code that reads a
+/// member's arguments by it (`replace.rs`): [`constant`]'s table is the one place that knows
+/// Excel's constants. A name outside it is a mistake in ncsheet's code, not in a macro.
+pub(super) fn constant_number(lower: &str) -> f64 {
+    match constant(lower) {
+        Some(ExprKind::Number(n)) => n,
+        _ => unreachable!("{lower} is not a number in the table of VBA's and Excel's constants"),
+    }
+}
+
 /// VBA's constants, as literals.
 fn constant(lower: &str) -> Option<ExprKind> {
     let text = |s: &str| Some(ExprKind::Text(s.into()));

@@ -276,6 +276,10 @@ pub(super) fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
         BinOp::Div if !variant => single_or_double(x, y),
         BinOp::Pow if !variant => Declared::Double,
         BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp if !variant => logical_type(x, y),
+        // [MS-VBAL] 5.6.9.5 (relational operators): the result is a Boolean, unless an operand
+        // is a Variant that may be Null (then Null), so `(1 = 1) + 1` adds a Boolean and an
+        // Integer, an Integer.
+        BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge if !variant => Declared::Boolean,
         _ => Declared::Variant,
     }
 }
