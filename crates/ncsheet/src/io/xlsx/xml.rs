@@ -81,14 +81,14 @@ impl<'a> Attrs<'a> {
 /// well-formedness constraint "Unique Att Spec", forbids it, and which of the two a reader
 /// took would be a guess. Every tag of every part passes here: one too short for two
 /// attributes (` a="" b=""`) or with fewer than two `=` (most: `<v>`, `<c r="B2">`) is
-/// passed at once; the others hold a few, see [`repeated_among`].
+/// passed at once, the `=` counted in a plain loop (two `memchr` calls cost more on such
+/// short text: benches/README.md); the others hold a few, see [`repeated_among`].
 #[inline]
 fn repeated_attribute<'a>(tag: &Tag<'a>) -> Option<&'a [u8]> {
     let attrs = tag.attrs;
-    if attrs.len() < r#" a="" b="""#.len() {
+    if attrs.len() < r#" a="" b="""#.len() || attrs.iter().filter(|&&b| b == b'=').nth(1).is_none() {
         return None;
     }
-    memchr::memchr(b'=', attrs).and_then(|first| memchr::memchr(b'=', &attrs[first + 1..]))?;
     repeated_among(tag.attrs())
 }
 
