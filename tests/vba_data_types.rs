@@ -544,3 +544,19 @@ fn a_date_times_a_number_is_a_double_past_the_date_range() {
     );
     assert_eq!(out, [" 10000000 Double", " 255611289600  8752509239296 Double"]);
 }
+
+// [MS-VBAL] 5.2.3.4 (Enum declarations): a variable declared with an enum type holds a Long,
+// which starts at 0 ("Dim statement": "numeric variables are initialized to 0"). The
+// libraries' enums (VBA's "VbCompareMethod", "VbVarType", Excel's "XlDirection", Office's
+// "MsoTriState", each a page of Microsoft's object model reference) are such types, not
+// objects: TypeName is "Long", never "Nothing".
+#[test]
+fn a_library_enum_type_declares_a_long() {
+    let out = printed(
+        "",
+        "    Dim m As VbCompareMethod, v As VbVarType, d As XlDirection, t As MsoTriState\n\
+         \x20   Debug.Print TypeName(m); TypeName(v); TypeName(d); TypeName(t); m + v + d + t\n\
+         \x20   d = xlUp\n    Debug.Print TypeName(d); d",
+    );
+    assert_eq!(out, ["LongLongLongLong 0 ", "Long-4162 "]);
+}

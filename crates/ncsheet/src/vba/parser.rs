@@ -1863,9 +1863,22 @@ pub(super) fn ty_named(name: &str) -> Ty {
         "boolean" => Ty::Boolean,
         "date" => Ty::Number(DATE_VAR_TYPE),
         "variant" | "any" | "" => Ty::Variant,
+        // An enum of VBA's, Excel's or Office's library (`VbCompareMethod`, `XlDirection`,
+        // `MsoTriState`): its variables are Longs, as a project's own Enum's are ([MS-VBAL]
+        // 5.2.3.4), so `Dim m As VbCompareMethod` starts at 0, not Nothing.
+        n if library_enum(n) => Ty::Whole(3),
         // Object, Range, Collection, a class module's name …
         _ => Ty::Object,
     }
+}
+
+/// Whether a lower-case type name is one of the libraries' enums. Their names follow the
+/// libraries' own prefixes: VBA's `Vb…`, Excel's `Xl…`, Office's `Mso…`; of those prefixes
+/// only VBIDE's classes (`VBE`, `VBProject`, `VBComponent`) are objects.
+fn library_enum(name: &str) -> bool {
+    const VBIDE_CLASSES: [&str; 5] = ["vbe", "vbproject", "vbprojects", "vbcomponent", "vbcomponents"];
+    let prefixed = ["vb", "xl", "mso"].iter().any(|p| name.len() > p.len() && name.starts_with(p));
+    prefixed && !VBIDE_CLASSES.contains(&name)
 }
 
 /// Whether the procedure whose body is `body` has label `name`, at any depth.

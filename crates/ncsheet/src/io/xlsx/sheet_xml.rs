@@ -650,8 +650,6 @@ fn not_an_iso_date(raw: &str) -> String {
     )
 }
 
-/// A stored number that reads as one but past the largest double (`1e400`): Excel writes
-/// none, and read as text it would compute silently wrong.
 /// A stored number as a cell holds it: below the smallest normal double it is 0, as a typed
 /// one is (`-1E-320<0` is FALSE either way), since Excel keeps no subnormal number.
 fn normal_or_zero(n: f64) -> f64 {
@@ -662,6 +660,8 @@ fn normal_or_zero(n: f64) -> f64 {
     }
 }
 
+/// A stored number that reads as one but past the largest double (`1e400`): Excel writes
+/// none, and read as text it would compute silently wrong.
 fn past_largest_number(raw: &str) -> String {
     format!("'{raw}' is past the largest number a cell holds (1.79769313486232E+308)")
 }
