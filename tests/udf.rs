@@ -479,3 +479,41 @@ fn a_function_in_a_cell_reads_text_in_the_number_format_the_file_gives() {
     let shown = common::cli::ncsheet(&["eval", &d("edited.xlsm"), "B1", "--format", "json"]);
     assert_eq!((shown.code, shown.stdout.trim()), (0, r#"{"Sheet!B1": "2.50"}"#), "{}", shown.stderr);
 }
+
+/// "Range.Worksheet property" (Microsoft's Excel VBA reference): a Range lies on one
+/// worksheet. The areas of a 3-D reference (`Sheet1:Sheet2!A1:A2`, one area a sheet) are no
+/// Range, so a Function given them is not called: `#VALUE!`, and the note names the calling
+/// cell and the argument. It was handed the first sheet's area alone: 1 + 2 = 3 where the
+/// cells hold 1 + 2 + 10 + 20, a wrong value without a word.
+#[test]
+fn a_union_of_areas_on_two_sheets_is_refused_naming_the_cell() {
+    const TOTAL: &str = "Function Total(r)\r\n    Dim c\r\n    For Each c In r\r\n        \
+                         Total = Total + c.Value\r\n    Next\r\nEnd Function\r\n";
+    let mut wb = two_sheets_of_numbers();
+    wb.set_input(0, at("C1"), "=Total(Sheet1:Sheet2!A1:A2)").unwrap();
+    wb.set_input(0, at("C2"), "=Total(Sheet1:Sheet2!A2)").unwrap();
+    wb.set_input(0, at("C3"), "=Total((Sheet2!A1,Sheet2!A2))").unwrap();
+    assert!(ncsheet::vba::install_functions(&mut wb, &common::vba::module1(TOTAL), RunOptions::default()).is_empty());
+    for cell in ["C1", "C2"] {
+        assert_eq!(wb.value(0, at(cell)), Value::Error(XlError::Value), "{cell}");
+        let notes = wb.notes(0, at(cell)).join("\n");
+        assert!(notes.contains(&format!("Sheet1!{cell}: Module1.Total was not called")), "{notes}");
+        assert!(notes.contains("argument 1 is a union of areas on several sheets"), "{notes}");
+    }
+    assert_eq!(number(&wb, "C3"), 30.0, "one sheet's areas are one Range");
+    // A macro's formula (`Evaluate`) calling the macro's own Function refuses it alike:
+    // Error 2015 is #VALUE! ("How to: Return Excel Errors From User-Defined Functions").
+    let src = format!("{TOTAL}Sub Main()\r\n    Debug.Print Evaluate(\"Total(Sheet1:Sheet2!A1)\")\r\nEnd Sub\r\n");
+    let run = ncsheet::vba::run(&mut wb, &src, "main.bas", &RunOptions::default()).unwrap();
+    assert_eq!(run.printed, ["Error 2015"]);
+}
+
+/// Sheet1 and Sheet2, each holding 1 and 2 (Sheet1) or 10 and 20 (Sheet2) in A1:A2.
+fn two_sheets_of_numbers() -> Workbook {
+    let mut wb = Workbook::with_sheet();
+    let second = wb.add_sheet("Sheet2").unwrap();
+    for (sheet, cell, text) in [(0, "A1", "1"), (0, "A2", "2"), (second, "A1", "10"), (second, "A2", "20")] {
+        wb.set_input(sheet, at(cell), text).unwrap();
+    }
+    wb
+}

@@ -22,7 +22,13 @@ impl Env for Interp<'_, '_> {
         let Some(proc) = self.formula_function(call.name) else {
             return self.wb.borrow().call_user_function(cells, call);
         };
-        let args = call.args.iter().map(formula_argument).collect();
+        let function = self.module.procs[proc].name.to_string();
+        let args = match super::udf::formula_arguments(call.args, &function, || {
+            self.wb.borrow().cell_name(call.caller.0, call.caller.1)
+        }) {
+            Ok(args) => args,
+            Err(note) => return Some(Err(note)),
+        };
         Some(self.call_from_formula(proc, args).map_err(|f| Note { error: XlError::Value, message: f.message }))
     }
 
@@ -534,19 +540,6 @@ impl Interp<'_, '_> {
             Obj::Regex(r) if r.default_value().is_some() => Ok(Operand::Value(r.default_value().unwrap_or_default())),
             Obj::Unkept(what) => Err(self.unkept_read(&what, span)),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
-        }
-    }
-}
-
-/// A formula's argument as a VBA Function receives it: a reference as its Range, an array
-/// from 1 as a range's (the module's Option Base governs only the arrays VBA makes), a union
-/// of areas on one sheet as a Range of those areas.
-fn formula_argument(arg: &Operand) -> Var {
-    match arg {
-        Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(*sheet, *rect)),
-        Operand::Value(v) => super::value::array_var(v.clone(), 1),
-        Operand::Areas(areas) => {
-            Var::Obj(super::areas::areas_object(areas).unwrap_or(Obj::Range(areas[0].0, areas[0].1)))
         }
     }
 }

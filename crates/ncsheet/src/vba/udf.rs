@@ -174,20 +174,8 @@ impl UserFunctions for WorkbookFunctions {
         options.max_statements = self.options.max_statements.min(limits.statements_per_call).min(left);
         options.max_depth = limits.max_depth.min(FUNCTION_MAX_DEPTH);
         let caller = call.caller;
-        let args = call
-            .args
-            .iter()
-            .map(|a| match a {
-                Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),
-                // A cell hands VBA its arrays from 1 as a range's are (`=Terp(3, {1,2,4})`: the
-                // module's Option Base governs only the arrays VBA itself makes).
-                Operand::Value(v) => array_var(v.clone(), 1),
-                // A union of areas (`=Total((A1:A3,C1:C3))`) is one Range of those areas.
-                Operand::Areas(areas) => {
-                    Var::Obj(super::areas::areas_object(areas).unwrap_or(Obj::Range(areas[0].0, areas[0].1)))
-                }
-            })
-            .collect();
+        let function = format!("{}.{}", m.name, m.module.procs[proc].name);
+        let args = formula_arguments(call.args, &function, || wb.cell_name(caller.0, caller.1))?;
         let looks = Rc::clone(&self.looks.borrow());
         let (result, steps) =
             interp::call_function(&m.module, wb, cells, &m.source, &m.name, &options, (proc, caller), args, looks);
@@ -199,6 +187,39 @@ impl UserFunctions for WorkbookFunctions {
             Err(e) => Err(Note { error: XlError::Value, message: e.to_string() }),
         }
     }
+}
+
+/// A formula's arguments as the VBA Function `function` receives them: a reference as its
+/// Range, an array from 1 as a range's (`=Terp(3, {1,2,4})`: the module's Option Base governs
+/// only the arrays VBA itself makes), a union of areas on one sheet (`=Total((A1:A3,C1:C3))`)
+/// as one Range of those areas. Areas on several sheets (a 3-D reference, `=Total(Sheet1:Sheet2!A1)`)
+/// is refused, naming the calling cell (`cell`) and the argument: no Range holds it, and
+/// handing over its first area alone would compute a wrong value without a word.
+pub(super) fn formula_arguments(
+    args: &[Operand],
+    function: &str,
+    cell: impl FnOnce() -> String,
+) -> Result<Vec<Var>, Note> {
+    let mut vars = Vec::with_capacity(args.len());
+    for (index, arg) in args.iter().enumerate() {
+        vars.push(match arg {
+            Operand::Ref(s, r) => Var::Obj(Obj::Range(*s, *r)),
+            Operand::Value(v) => array_var(v.clone(), 1),
+            Operand::Areas(areas) => match super::areas::areas_object(areas) {
+                Some(obj) => Var::Obj(obj),
+                None => {
+                    let message = format!(
+                        "{}: {function} was not called: its argument {} is a union of areas on several sheets, \
+                         which no VBA Range holds; pass each sheet's cells as a separate argument",
+                        cell(),
+                        index + 1
+                    );
+                    return Err(Note { error: XlError::Value, message });
+                }
+            },
+        });
+    }
+    Ok(vars)
 }
 
 /// For each procedure of `module`: `Some(volatile)` for a public Function of the module's
