@@ -401,6 +401,66 @@ fn a_macro_of_expensive_statements_stops_at_its_time_limit() {
     assert!(err.span.is_some_and(|s| (3..=5).contains(&s.line)), "{:?}", err.span);
 }
 
+/// Runs `Sub Main()` with `body` under a statement limit of `limit`; the error it stops with.
+fn stops_within(body: &str, limit: u64) -> vba::MacroError {
+    let source = format!("Sub Main()\n{body}\nEnd Sub\n");
+    let options = RunOptions { max_statements: limit, ..RunOptions::default() };
+    let mut wb = Workbook::with_sheet();
+    match vba::run(&mut wb, &source, "work.bas", &options) {
+        Ok(out) => panic!("the macro ran to its end, printing {:?}:\n{body}", out.printed),
+        Err(e) => e,
+    }
+}
+
+/// Text and array work counts against the statement limit (issue 30): a loop of a hundred
+/// statements, each reading or making a 100,000-character text or a 50,000-item array, ran
+/// to its end within a limit of 100,000 statements (a loop of `Replace` over 16 million
+/// characters took 0.5 s a statement, so the default limit let it run for hours). At the
+/// documented rate, each 64 characters or 4 items read or made a statement
+/// (docs/limits.md), every loop here is worth over 300,000 statements: it stops, naming the
+/// work, at a statement of its loop.
+#[test]
+fn text_and_array_work_counts_against_the_statement_limit() {
+    let setup = "    Dim s As String, t As String, c As String, v, w, n As Long, i As Long\n    \
+                 s = String(100000, \"a\"): t = s: c = Replace(String(50000, \"a\"), \"a\", \"a,\")\n    \
+                 v = Split(c, \",\"): Range(\"A1:A50000\").Value = 1\n";
+    // Each statement reads or makes at least 6,250 units of 16 characters or an item: the
+    // 100,000 characters of `s`, the 50,001 items of `v` or the 50,000 cells summed.
+    for work in [
+        "t = Replace(s, \"b\", \"c\")",
+        "n = InStr(s, \"b\")",
+        "If s = t Then n = n + 1",
+        "v = Split(c, \",\")",
+        "t = Join(v, \",\")",
+        "w = Filter(v, \"b\")",
+        "t = StrConv(s, vbUpperCase)",
+        "t = Space(100000)",
+        "n = Application.WorksheetFunction.Sum(Range(\"A1:A50000\"))",
+    ] {
+        let body = format!("{setup}    For i = 1 To 100\n        {work}\n    Next i");
+        let e = stops_within(&body, 100_000);
+        assert_eq!(e.kind, ErrorKind::Limit, "{work}: {e}");
+        assert!(e.message.contains("text and array work counts too"), "{work}: {e}");
+        assert!(e.span.is_some_and(|s| (5..=8).contains(&s.line)), "{work}: {:?}", e.span);
+    }
+}
+
+/// `ReDim Preserve` of a two-dimensional array copies every item each time (issue 30): a
+/// loop of them passed 30 s within the default limit while each 64 items copied counted as
+/// one statement, about four times too few for their cost (60 ns an item against a
+/// statement's 1 µs, measured in release: docs/limits.md). Each 16 items copied now count:
+/// growing a(1 To 10, 1 To i) for i up to 300 copies 10 · (1 + … + 299) = 448,500 items,
+/// 28,031 statements' worth (7,007 at 64 a statement), past a limit of 20,000 that the
+/// loop's 600 statements stay far below.
+#[test]
+fn redim_preserve_copies_count_a_statement_per_16_items() {
+    let body = "    Dim a() As Double, i As Long\n    ReDim a(1 To 10, 1 To 1)\n    For i = 2 To 300\n        \
+                ReDim Preserve a(1 To 10, 1 To i)\n    Next i";
+    let e = stops_within(body, 20_000);
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("each 16 items copied count as a statement"), "{e}");
+}
+
 // ---- shapes that were quadratic: the answers (benches/scaling.rs times them) ---------------
 
 #[test]

@@ -227,10 +227,10 @@ fn a_real_bubble_sort_of_three_thousand_items_finishes_under_the_default_limit()
 // Issue 30: `ReDim Preserve` of a two-dimensional array copies every item (only a
 // one-dimensional array grows in place), so a loop growing one ran for minutes inside the
 // memory budget while counting one statement a turn. The copies count against the statement
-// limit, a statement per 64 items: growing a(1 To 2, 1 To i) for i up to 5,000 copies
-// 2 · (1 + … + 4,999) = 24,995,000 items, about 390,000 statements' worth, past a limit of 100,000
-// that the loop's 10,000 statements alone stay far below. The same loop to 100 copies 9,900
-// items (154 statements' worth) and ends normally with the items it kept.
+// limit, a statement per 16 items: growing a(1 To 2, 1 To i) for i up to 5,000 copies
+// 2 · (1 + … + 4,999) = 24,995,000 items, about 1,560,000 statements' worth, past a limit of
+// 100,000 that the loop's 10,000 statements alone stay far below. The same loop to 100 copies
+// 9,900 items (618 statements' worth) and ends normally with the items it kept.
 #[test]
 fn redim_preserve_copies_count_against_the_statement_limit() {
     let grow = |last: u32| {
@@ -243,7 +243,7 @@ fn redim_preserve_copies_count_against_the_statement_limit() {
     let options = RunOptions { max_statements: 100_000, ..RunOptions::default() };
     let e = run_with(&grow(5000), &options).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Limit, "{e}");
-    assert!(e.to_string().contains("each 64 items copied count as a statement"), "{e}");
+    assert!(e.to_string().contains("each 16 items copied count as a statement"), "{e}");
     let out = run_with(&grow(100), &options).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(out.printed, [" 7  100 "]);
 }

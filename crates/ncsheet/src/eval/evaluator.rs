@@ -293,6 +293,12 @@ pub trait Host {
     fn option_compare_text(&self) -> bool {
         false
     }
+
+    /// Told of the work an expression's functions and operators did on texts and arrays, in
+    /// [`Ctx::charge`]'s units (an item made or read, 16 bytes of text): a macro counts it
+    /// against its statement limit, so that a loop of few statements, each doing much text
+    /// work (`Replace` over 16 million characters), stops within the limit's time too.
+    fn work(&self, _units: u64) {}
 }
 
 /// The result of evaluating an expression that may be a reference.
@@ -810,6 +816,12 @@ impl<'a> Ctx<'a> {
         let (a, b) = self.localized_operands(op, a, b);
         let v = binary(op, &a, &b, self.dates);
         self.charge(work_of(&v));
+        if op != BinOp::Concat && self.host.is_some() {
+            // A comparison (or `Like`) of long texts reads them and answers a Boolean; `&`'s
+            // work is the text it makes, counted above.
+            let bytes = |v: &Value| if let Value::Text(t) = v { t.len() } else { 0 };
+            self.charge_read(bytes(&a) + bytes(&b));
+        }
         if matches!(v, Value::Error(XlError::Num)) {
             self.explain_array_size(&a, &b);
         }
@@ -1048,20 +1060,33 @@ impl<'a> Ctx<'a> {
     }
 
     /// Counts `work` (items made or read, see [`work_of`]) when a LAMBDA of MAP, REDUCE, …
-    /// is running; [`Ctx::apply_closure`] checks the total before each call.
+    /// is running; [`Ctx::apply_closure`] checks the total before each call. A macro is told
+    /// of all of it ([`Host::work`]).
     #[inline]
     pub fn charge(&self, work: usize) {
         if self.iterating > 0 {
             self.lambda_work.set(self.lambda_work.get().saturating_add(work as u64));
         }
+        if let Some(host) = self.host {
+            host.work(work as u64);
+        }
+    }
+
+    /// Counts the work of reading `bytes` of text (a unit per 16 bytes, as [`work_of`] counts
+    /// a text made): a function whose answer is small may have read long texts to find it
+    /// (`InStr`, `StrComp`, a comparison).
+    #[inline]
+    pub fn charge_read(&self, bytes: usize) {
+        self.charge(bytes / 16);
     }
 
     /// Counts the texts among a function's arguments `values` (16 bytes a unit, as texts made
-    /// are) when a LAMBDA of MAP, REDUCE, … is running: a text function reads its arguments
-    /// whole and may make nothing (`LEN(t)` of a 32,767-character `t` bound outside the LAMBDA).
+    /// are) when a LAMBDA of MAP, REDUCE, … is running, or in a macro: a text function reads
+    /// its arguments whole and may make nothing (`LEN(t)` of a 32,767-character `t` bound
+    /// outside the LAMBDA).
     #[inline]
     pub fn charge_texts(&self, values: &[Value]) {
-        if self.iterating > 0 {
+        if self.iterating > 0 || self.host.is_some() {
             let bytes: usize = values.iter().map(|v| if let Value::Text(t) = v { t.len() } else { 0 }).sum();
             self.charge(bytes / 16);
         }

@@ -47,6 +47,8 @@ impl Env for Interp<'_, '_> {
             Some(cells) => cells.for_each_value(sheet, rect, &mut keep),
             None => self.wb.borrow().for_each_value(sheet, rect, &mut keep),
         }
+        // Each cell read is work (`WorksheetFunction.Sum` of a million cells in a loop).
+        self.add_work(items.len() as u64);
         for (p, v) in items {
             f(p, &v);
         }
@@ -330,6 +332,10 @@ impl Host for Interp<'_, '_> {
 
     fn option_compare_text(&self) -> bool {
         self.text_compare()
+    }
+
+    fn work(&self, units: u64) {
+        self.add_work(units);
     }
 
     fn text_length(&self, name: &str) -> Option<usize> {

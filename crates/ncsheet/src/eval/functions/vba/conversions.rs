@@ -226,7 +226,10 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Left out or vbUseCompareOption: the module's Option Compare.
     let option_text = ctx.option_compare_text();
     let raised = Raised::default();
-    let result = lift_vba(ctx, args, "Replace", NO_NULL, &|v| {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    // The text is read whole however little is left of it (`Replace(s, s, "")`).
+    ctx.charge_texts(&values[..1]);
+    let result = lift_vba_values(ctx, values, "Replace", NO_NULL, &|v| {
         let text: Vec<char> = vba_text(&v[0])?.chars().collect();
         let find: Vec<char> = vba_text(&v[1])?.chars().collect();
         let with = vba_text(&v[2])?;

@@ -85,6 +85,8 @@ pub fn instr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (Some(text), Some(find)) = (text_or_null(ctx, args, text_at)?, text_or_null(ctx, args, text_at + 1)?) else {
         return Ok(Value::Null);
     };
+    // Both texts are read whole (made characters) whatever the answer.
+    ctx.charge_read(text.len() + find.len());
     let (text, find) = (chars_for(&text, ignore_case), chars_for(&find, ignore_case));
     let start = start.min(usize::MAX as f64) as usize;
     if start > text.len() + usize::from(find.is_empty()) {
@@ -101,6 +103,7 @@ pub fn instr_rev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (Some(text), Some(find)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
         return Ok(Value::Null);
     };
+    ctx.charge_read(text.len() + find.len());
     let (text, find) = (chars_for(&text, ignore_case), chars_for(&find, ignore_case));
     let start = whole_arg(ctx, "InStrRev", args, 2, -1.0)?;
     if start == 0.0 || start < -1.0 {
@@ -127,6 +130,7 @@ pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (Some(a), Some(b)) = (text_or_null(ctx, args, 0)?, text_or_null(ctx, args, 1)?) else {
         return Ok(Value::Null);
     };
+    ctx.charge_read(a.len() + b.len());
     let (a, b) = (chars_for(&a, ignore_case), chars_for(&b, ignore_case));
     Ok(Value::Number(match a.cmp(&b) {
         std::cmp::Ordering::Less => -1.0,
@@ -153,6 +157,8 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Ok(Value::from(Array::row(Vec::new())));
     }
     let limit = if limit == -1.0 { usize::MAX } else { limit as usize };
+    // The whole text is read, however few items it gives (the items are counted as made).
+    ctx.charge_read(text.len());
     let chars: Vec<char> = text.chars().collect();
     let hay = chars_for(&text, ignore_case);
     let needle = chars_for(&delimiter, ignore_case);
@@ -191,9 +197,12 @@ pub fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     let ignore_case = text_compare(ctx, "Filter", args, 3)?;
     let needle = chars_for(&wanted, ignore_case);
+    // Each item is read (its text counted below), whatever is kept.
+    ctx.charge(items.data.len());
     let mut kept = Vec::new();
     for item in items.data.iter() {
         let text = vba_text(item)?;
+        ctx.charge_read(text.len());
         let hay = chars_for(&text, ignore_case);
         let found = (0..=hay.len()).any(|at| starts_at(&hay, &needle, at));
         if found == include {
@@ -211,6 +220,8 @@ pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Some(_) => text_arg(ctx, "Join", args, 1)?,
         None => " ".to_string(),
     };
+    // Each item is read; the text made is counted as every result is.
+    ctx.charge(items.data.len());
     let texts = items.data.iter().map(vba_text).collect::<XlResult<Vec<_>>>()?;
     // Measured before it is built: 5,000,001 empty items joined by 1,000 characters
     // asked for 5 GB at once.
