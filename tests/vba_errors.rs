@@ -163,7 +163,6 @@ fn files_programs_and_the_system_are_out_of_reach() {
         "    Close #1",
         "    Kill \"part.nc\"",
         "    Shell \"rm -rf /\"",
-        "    Dim fso\n    Set fso = CreateObject(\"Scripting.FileSystemObject\")",
         "    Set o = GetObject(\"x\")",
         "    Workbooks.Open \"other.xlsx\"",
         "    ThisWorkbook.SaveAs \"copy.xlsx\"",

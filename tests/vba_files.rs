@@ -252,6 +252,28 @@ fn a_path_out_of_the_sandbox_stops_the_macro_even_under_on_error() {
     assert!(e.message.contains("CreateTextFile: named arguments (x:=) are not read here"), "{e}");
 }
 
+// Without --out-dir or --in-file the FileSystemObject is refused when the statement runs, as an
+// error saying what it needs (not as a syntax error: VBA compiles CreateObject and creates the
+// object only when it runs), and On Error does not skip it: the macro would write its program
+// nowhere (issue 31).
+#[test]
+fn a_file_system_object_without_files_says_it_needs_out_dir() {
+    let e = fail(
+        "    On Error Resume Next\n    Set fso = CreateObject(\"Scripting.FileSystemObject\")",
+        &RunOptions::default(),
+    );
+    assert_eq!(e.kind, ErrorKind::Runtime, "{e}");
+    assert!(e.message.contains("file access needs a folder: run with `ncsheet run --out-dir DIR`"), "{e}");
+    let span = e.span.unwrap();
+    assert_eq!((span.line, span.col), (3, 15), "{e}");
+    // A branch that never runs does not stop the macro.
+    let src = "Sub Main()\n    If False Then Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    Debug.Print 1\nEnd Sub\n";
+    assert_eq!(run_with(src, &RunOptions::default()).unwrap().printed, [" 1 "]);
+    // A save dialog has no user to answer it: the way out is InputBox's, a parameter (--arg).
+    let e = fail("    On Error Resume Next\n    f = Application.GetSaveAsFilename(\"prog.nc\")", &sandbox(&[]));
+    assert!(e.message.contains("no file dialog opens; give the file's name as a parameter of the Sub (--arg"), "{e}");
+}
+
 #[test]
 fn reading_only_runs_refuse_every_write() {
     let mut options = sandbox(&[("in.txt", &b"x"[..])]);

@@ -93,6 +93,28 @@ fn brackets_evaluate_formula_text_as_in_a_cell() {
     assert_eq!(get(&wb, 0, "B3"), n(4.0));
 }
 
+// "Application.Evaluate method": "Using square brackets (for example, "[A1:C5]") is identical
+// to calling the Evaluate method with a string argument", and Evaluate of a reference gives a
+// Range, so `[A1].NumberFormat` is `Range("A1").NumberFormat` (issue 31). The values follow from
+// the members' pages: "Range.Text" shows the number in its format (7 in "0.00" is 7.00),
+// "Range.Count" of A1:B2 is 4, "Range.Offset" (1, 0) of A1 is A2, "Range.Copy" with
+// Destination writes D1:E2.
+#[test]
+fn a_bracket_followed_by_members_is_the_range_it_names() {
+    let mut wb = Workbook::with_sheet();
+    wb.define_name("Start", "=Sheet1!$B$1", None).unwrap();
+    let printed = run(
+        &mut wb,
+        "    [A1:B2].Value = 7\n    [A1].NumberFormat = \"0.00\"\n\
+         \x20   Debug.Print [A1].Text & \" \" & [A1:B2].Count & \" \" & [A1].Offset(1, 0).Address\n\
+         \x20   [A1:B2].Copy Destination:=[D1]\n    [Start].Offset(2, 0).Value = [D2].Value + 1\n\
+         \x20   [D2].ClearContents\n    Debug.Print [ A1 : B2 ].Rows.Count & \" \" & IsEmpty([D2].Value)",
+    );
+    assert_eq!(printed, ["7.00 4 $A$2", "2 True"]);
+    assert_eq!(get(&wb, 0, "E1"), n(7.0));
+    assert_eq!(get(&wb, 0, "B3"), n(8.0));
+}
+
 #[test]
 fn defined_names_through_range_brackets_and_evaluate() {
     let mut wb = Workbook::with_sheet();

@@ -587,6 +587,18 @@ impl Interp<'_, '_> {
         fault
     }
 
+    /// The refusal of `CreateObject("Scripting.FileSystemObject")` in a run given no files:
+    /// untrappable, as skipping it would leave the macro writing its program nowhere.
+    fn without_files(&self, link: &Link) -> Fault {
+        let message = format!(
+            "{}(\"Scripting.FileSystemObject\"): file access needs a folder: run with `ncsheet run --out-dir DIR` \
+             (the macro's files are plain names inside DIR, written when it succeeds) or --in-file FILE to read \
+             one; this run was given neither",
+            link.name
+        );
+        self.refused(link.span, message)
+    }
+
     pub(super) fn access(&self) -> &super::FileAccess {
         self.options.files.as_ref().expect("file statements parse only when the run has files")
     }
@@ -963,6 +975,9 @@ impl Interp<'_, '_> {
 
     /// `FreeFile`, `EOF(n)`, `LOF(n)`, `CreateObject("Scripting.FileSystemObject")`.
     pub(super) fn file_root(&self, ctx: &mut Ctx, link: &Link) -> Run<Obj> {
+        if self.options.files.is_none() {
+            return Err(self.without_files(link));
+        }
         let args = self.values(ctx, link)?;
         let number = |what: &str| -> Run<i64> {
             let n = args.first().ok_or_else(|| self.fault_at(link.span, format!("{what} needs a file number")))?;

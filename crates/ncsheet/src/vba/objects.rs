@@ -198,6 +198,22 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The refusal of a file dialog (`Application.GetSaveAsFilename` …): no user answers it.
+    /// `On Error` does not skip it, as the macro would go on with no file name.
+    fn no_dialog(&self, link: &Link) -> crate::vba::interp::Fault {
+        let mut fault = self.fault_at(
+            link.span,
+            format!(
+                "Application.{}: a macro runs without a user, so no file dialog opens; give the file's \
+                 name as a parameter of the Sub (--arg NAME=FILE) and let the macro join it to \
+                 ThisWorkbook.Path, the --out-dir folder, or read a file given with --in-file",
+                link.name
+            ),
+        );
+        fault.code = super::unmodelled::NOT_MODELLED;
+        fault
+    }
+
     pub(super) fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
         let obj = self.alive(obj, link.span)?;
         if let Some(family) = self.family_member(&obj, link) {
@@ -228,14 +244,7 @@ impl Interp<'_, '_> {
                 "intersect" => self.range_set(link, RangeSet::Intersect),
                 "union" => self.range_set(link, RangeSet::Union),
                 // File dialogs: no user answers them, and the sandbox names the folder.
-                "getsaveasfilename" | "getopenfilename" | "filedialog" => Err(self.fault_at(
-                    link.span,
-                    format!(
-                        "Application.{}: a macro runs without a user, so no file dialog opens; it writes and reads \
-                         files by the names it gives, inside --out-dir (ThisWorkbook.Path) and --in-file",
-                        link.name
-                    ),
-                )),
+                "getsaveasfilename" | "getopenfilename" | "filedialog" => Err(self.no_dialog(link)),
                 _ => self.unmodelled(&Obj::App, link),
             },
             Obj::Workbook => match name.as_str() {

@@ -270,6 +270,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::boolean
         | Rule::path
         | Rule::bracket
+        | Rule::bracket_path
         | Rule::date_lit
         | Rule::radix_lit
         | Rule::typed_number
@@ -1044,12 +1045,18 @@ impl<'s> Build<'s> {
             Some(new) => self.new_object(new)?,
             None => self.expr(find(&k, Rule::vexpr).expect("assigned value"))?,
         };
-        let target = match find(&k, Rule::bracket) {
-            Some(b) => match self.bracket(b)?.kind {
+        let target = match (find(&k, Rule::bracket_path), find(&k, Rule::bracket)) {
+            (Some(b), _) => match self.bracket_members(&b, None)?.kind {
+                ExprKind::Host(id) if matches!(self.nodes.borrow()[id as usize], Node::Members { .. }) => {
+                    Target::Node(id)
+                }
+                _ => return Err(self.not_indexed_here(&b)),
+            },
+            (None, Some(b)) => match self.bracket(b)?.kind {
                 ExprKind::Host(id) => Target::Node(id),
                 _ => unreachable!("a bracket is a node"),
             },
-            None => {
+            (None, None) => {
                 let path = find(&k, Rule::path).expect("assignment target");
                 if let Some(mid) = self.mid_statement(&path, &value).transpose().filter(|_| !set) {
                     return mid;
@@ -1147,6 +1154,13 @@ impl<'s> Build<'s> {
 
     fn call_stmt(&self, pair: &Pair<Rule>) -> Res<Expr> {
         let k = kids(pair);
+        if let Some(members) = find(&k, Rule::bracket_path) {
+            return self.bracket_members(&members, None);
+        }
+        if let Some(callee) = find(&k, Rule::bracket_callee) {
+            let args = self.args(find(&k, Rule::call_args).expect("arguments"))?;
+            return self.bracket_members(&callee, Some(args));
+        }
         if let Some(path) = find(&k, Rule::path) {
             if find(&k, Rule::k_call).is_none() {
                 return self.spaced_call(path);
@@ -1381,6 +1395,39 @@ impl<'s> Build<'s> {
         Ok(self.node(Node::Evaluate { expr, span: self.span(at) }, at, end))
     }
 
+    /// `[A1].Offset(1, 0).Value`, `[A1:B2].Copy Destination:=[D1]`: the members of what the
+    /// bracket gives (a Range, as Evaluate gives one), followed as a path follows its links
+    /// ([`Node::Members`]) and indexed where an index list follows one; `args` are those of
+    /// a member called as a statement.
+    fn bracket_members(&self, pair: &Pair<Rule>, args: Option<Vec<Arg>>) -> Res<Expr> {
+        let mut parts = pair.clone().into_inner();
+        let mut e = self.bracket(parts.next().expect("the bracket"))?;
+        let span = self.span(start(pair));
+        let mut links = Vec::new();
+        for part in parts {
+            let end = part.as_span().end();
+            let (link, indexes) = match part.as_rule() {
+                Rule::member_name => {
+                    (Link { name: name_of(&part), args: None, span: self.span(start(&part)) }, Vec::new())
+                }
+                _ => self.link_indexed(part)?,
+            };
+            links.push(link);
+            if !indexes.is_empty() {
+                let path = Path { with: false, links: std::mem::take(&mut links), span };
+                e = self.members(pair, Some(e), path, end)?;
+                e = self.indexed(pair, e, indexes, end)?;
+            }
+        }
+        if let (Some(args), Some(last)) = (args, links.last_mut()) {
+            last.args = Some(args);
+        }
+        match links.is_empty() {
+            true => Ok(e),
+            false => self.members(pair, Some(e), Path { with: false, links, span }, pair.as_span().end()),
+        }
+    }
+
     /// `Stop`, `Randomize [seed]`, `Erase a, b` and `Error n`: statements of VBA's library that
     /// look like calls, unless the macro has a variable or procedure of that name. `Error 13`
     /// is the Error statement, which raises the error ([MS-VBAL] 5.4.4.3), not a call of the
@@ -1508,6 +1555,7 @@ impl HostPrimaries for Build<'_> {
     fn primary(&self, pair: Pair<Rule>) -> Result<Expr, ParseError> {
         match pair.as_rule() {
             Rule::bracket => self.bracket(pair),
+            Rule::bracket_path => self.bracket_members(&pair, None),
             Rule::path => self.path_expr(pair, false),
             Rule::path_is => self.path_is(pair),
             Rule::type_of => self.type_of(pair),

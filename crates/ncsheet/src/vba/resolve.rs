@@ -559,7 +559,7 @@ impl Build<'_> {
     }
 
     /// `d(k)(i)(j)`: each index list applied to what the one before gives.
-    fn indexed(&self, pair: &Pair<Rule>, mut e: Expr, indexes: Vec<Vec<Arg>>, end: usize) -> Res<Expr> {
+    pub(super) fn indexed(&self, pair: &Pair<Rule>, mut e: Expr, indexes: Vec<Vec<Arg>>, end: usize) -> Res<Expr> {
         let at = start(pair);
         for args in indexes {
             if args.iter().any(|a| a.name.is_some() || a.value.kind == ExprKind::Missing) {
@@ -637,7 +637,7 @@ impl Build<'_> {
     }
 
     /// The members `path` of what `base` gives; with no base, the path resolved as any path.
-    fn members(&self, pair: &Pair<Rule>, base: Option<Expr>, path: Path, end: usize) -> Res<Expr> {
+    pub(super) fn members(&self, pair: &Pair<Rule>, base: Option<Expr>, path: Path, end: usize) -> Res<Expr> {
         let Some(base) = base else { return self.resolve(pair, path, false, end) };
         self.check_path(pair, &path)?;
         Ok(self.node(Node::Members { base, path }, start(pair), end))
@@ -1007,7 +1007,9 @@ impl Build<'_> {
                 return Ok(self.node(Node::New { class, span: self.span(at) }, at, end));
             }
         }
-        if self.files && !is_var && super::files::is_file_function(&lower, &link) {
+        // `CreateObject("Scripting.FileSystemObject")` in a run without files too: refused when
+        // it runs, saying what it needs, as VBA would create it only when the statement runs.
+        if !is_var && super::files::is_file_function(&lower, &link) && (self.files || lower == "createobject") {
             let path = Path { with: false, links: vec![link], span: self.span(at) };
             return Ok(self.node(Node::Path(path), at, end));
         }
