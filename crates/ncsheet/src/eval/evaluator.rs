@@ -1643,12 +1643,13 @@ pub fn broadcast_whole(values: &[&Value], f: &dyn Fn(&[Value]) -> Value) -> Valu
 
 /// A computed number as a value: NaN and infinities are `#NUM!`, as Excel reports overflow;
 /// numbers below the smallest normal double are 0, as Excel keeps no subnormals
-/// (`EXP(-745)` is 0).
+/// (`EXP(-745)` is 0), and so is a negative zero (`0*-1`): Excel has none, and ATAN2 read
+/// its sign (`ATAN2(-1,0*-1)` was -π, which Excel's ATAN2 never returns).
 #[inline]
 pub fn number_result(n: f64) -> Value {
     if !n.is_finite() {
         Value::Error(XlError::Num)
-    } else if n != 0.0 && n.abs() < f64::MIN_POSITIVE {
+    } else if n.abs() < f64::MIN_POSITIVE {
         Value::Number(0.0)
     } else {
         Value::Number(n)
@@ -1681,10 +1682,11 @@ pub fn finite_numbers(v: Value) -> Value {
     }
 }
 
-/// A number a cell may hold as it is: finite and not subnormal ([`finite_numbers`]).
+/// A number a cell may hold as it is: finite, not subnormal and not a negative zero
+/// ([`finite_numbers`]).
 #[inline]
 fn is_normal_or_zero(n: f64) -> bool {
-    n.is_normal() || n == 0.0
+    n.is_normal() || n.to_bits() == 0
 }
 
 /// Whether `r`, the sum or difference of `x` and `y`, is only the binary rounding of their

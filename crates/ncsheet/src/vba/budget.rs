@@ -153,13 +153,15 @@ impl Measure {
                 Var::Array(a) if self.first_time(&a.data) => {
                     self.array(&a.data);
                     pending.extend(a.records.iter().flat_map(|r| r.iter()).cloned());
+                    // `Set kept(i) = New Node`: the objects an array holds, kept beside its items.
+                    pending.extend(a.objects.iter().flat_map(|o| o.values()).map(|o| Var::Obj(o.clone())));
                 }
                 Var::Obj(Obj::Store(h)) if self.first_time(&h.0) => {
                     self.bytes = self.bytes.saturating_add(h.own_bytes());
                     pending.extend(h.items());
                 }
                 Var::Obj(Obj::Instance(o)) if self.first_time(&o.0) => {
-                    self.bytes = self.bytes.saturating_add(super::classes::OBJECT_BYTES);
+                    self.bytes = self.bytes.saturating_add(super::classes::object_bytes(&o.0));
                     pending.extend(o.field_vars());
                 }
                 // A MatchCollection, or a Match or SubMatches of one, holds all its matches.

@@ -23,6 +23,15 @@ use super::value::{array_var, convert, range_var, Obj, Slots, Var};
 /// What one object costs the memory budget besides its variables' values.
 pub(super) const OBJECT_BYTES: u64 = 64;
 
+/// What an object of a class module costs the memory budget besides its variables' values:
+/// its own block and its variables' slots as allocated. A fixed [`OBJECT_BYTES`] counted 64
+/// bytes where an object of ten Double fields took 8 KiB, and a loop making objects ran past
+/// the budget to the abort at the memory cap.
+pub(super) fn object_bytes(object: &Object) -> u64 {
+    let block = std::mem::size_of::<Object>() + 2 * std::mem::size_of::<usize>();
+    (block as u64).saturating_add(object.fields.borrow().own_bytes())
+}
+
 /// "Trappable errors": VBA's numbers and texts for objects.
 const NOT_SET: (u32, &str) = (91, errors::description(91));
 const NO_MEMBER: (u32, &str) = (438, errors::description(438));
@@ -165,9 +174,12 @@ impl Interp<'_, '_> {
                 return Ok(Var::Obj(Obj::Regex(super::regexp::RegexObj::new_regexp())));
             }
         };
-        self.charge(OBJECT_BYTES, span)?;
         let object = Instance(Rc::new(Object { class, fields: RefCell::new(Slots::default()) }));
         self.declare_fields(&object, &self.module.classes[class].fields)?;
+        // Charged once its fields are declared: what they take is known then, held to the
+        // slots it has (a Vec grown slot by slot kept room for twice as many).
+        object.0.fields.borrow_mut().shrink_to_fit();
+        self.charge(object_bytes(&object.0), span)?;
         if let Some(proc) = self.class_proc(class, "Class_Initialize", None) {
             self.run_event(proc, &object, span)?;
         }

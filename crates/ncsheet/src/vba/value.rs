@@ -669,6 +669,18 @@ fn recent_place(name: &str) -> usize {
 }
 
 impl Slots {
+    /// The bytes the slots take as allocated, their names' and values' own memory aside (an
+    /// object's fields: the memory budget counts them, `classes::object_bytes`).
+    pub(super) fn own_bytes(&self) -> u64 {
+        let slots = self.slots.capacity() * std::mem::size_of::<Slot>();
+        (std::mem::size_of::<Slots>() + slots) as u64
+    }
+
+    /// Lets go of the room the slots have beyond the ones they hold.
+    pub(super) fn shrink_to_fit(&mut self) {
+        self.slots.shrink_to_fit();
+    }
+
     pub fn get(&self, name: &str) -> Option<&Slot> {
         self.position(name).map(|i| &self.slots[i])
     }

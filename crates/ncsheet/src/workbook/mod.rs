@@ -526,7 +526,9 @@ impl Workbook {
         if digits.bytes().any(|b| b.is_ascii_digit()) && digits.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
             if let Ok(n) = text.parse::<f64>() {
                 if n.is_finite() {
-                    self.set_constant(sheet, pos, Value::Number(n));
+                    // As a computed number: `-0` and subnormals (`0.000…1`) are 0, as Excel
+                    // keeps neither (Input::parse's rule for the rest).
+                    self.set_constant(sheet, pos, crate::eval::evaluator::number_result(n));
                     return Ok(());
                 }
             }

@@ -175,8 +175,14 @@ fn lift_dates(ctx: &mut Ctx, args: &[Expr], f: &dyn Fn(&[Value]) -> XlResult<Val
 }
 
 /// A date argument split into calendar parts (time rounded to the second, as Excel does).
+/// A time that rounds up past 9999-12-31's last second is `#NUM!`, as the next day is: that
+/// day is no date ("YEAR function": 1900 to 9999; `YEAR(2958465.9999999)` was 10000).
 fn date_time(v: &Value, dates: DateSystem) -> XlResult<DateTime> {
-    Ok(DateTime::from_serial(dates, serial(v, dates)?, 0))
+    let split = DateTime::from_serial(dates, serial(v, dates)?, 0);
+    if split.serial > LAST_SERIAL {
+        return Err(XlError::Num);
+    }
+    Ok(split)
 }
 
 /// A date argument of an Analysis ToolPak function (EDATE, EOMONTH, WORKDAY, NETWORKDAYS,
@@ -271,8 +277,10 @@ fn time(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if seconds < 0 {
             return Err(XlError::Num);
         }
-        let days = seconds as f64 / 86_400.0;
-        Ok(Value::Number(days - days.floor()))
+        // The whole days dropped in whole seconds, exactly ("TIME function": TIME(27,0,0) is
+        // TIME(3,0,0)); `days - days.floor()` of the quotient lost digits (TIME(32767,0,0)
+        // was 0.29166666666674 where 7/24 is 0.291666666666667).
+        Ok(Value::Number((seconds % 86_400) as f64 / 86_400.0))
     })
 }
 
