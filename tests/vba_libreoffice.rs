@@ -516,6 +516,22 @@ End Sub
     Out TypeName(IIf(False, 1, 2.5))
 "#,
     },
+    // Str shows a fraction without its units' zero (" .1", "-.5"), which LibreOffice does in
+    // VBA mode only, to match Excel's VBA; CStr, & and Print keep the zero (issue 31).
+    Case {
+        name: "str_drops_the_units_zero",
+        module: "",
+        body: r#"
+    Out "[" & Str(0.1) & "]"
+    Out "[" & Str(-0.5) & "]"
+    Out "[" & Str(0.25 - 1) & "]"
+    Out "[" & Str(0) & "]"
+    Out "[" & Str(10.5) & "]"
+    Out "[" & Str$(-0.75) & "]"
+    Out "[" & CStr(0.1) & "]"
+    Out "[" & 0.1 & "]"
+"#,
+    },
 ];
 
 /// ncsheet's lines for one case.

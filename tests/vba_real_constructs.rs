@@ -374,3 +374,82 @@ fn a_constant_declared_alike_in_two_modules_runs() {
                  Function Tolerance()\n    Tolerance = ACCURACY * 2\nEnd Function\n";
     assert_eq!(printed_with_modules(main, &[("Other", other)]), [" 0.001  0.002 "]);
 }
+
+// [MS-VBAL] 5.3.1.11: an argument that is not a plain variable is evaluated and Let-coerced to
+// the parameter's declared type, and Let-coercing an object reads its default member, which
+// for a Range is Value (Microsoft's "Range.Value property": "the default member"). A
+// collection helper passes `KeyRange.Cells(i)` to `KeyName As String` so.
+#[test]
+fn a_cell_given_to_a_typed_parameter_is_its_value() {
+    let src = "Function Tag(KeyName As String) As String\n    Tag = \"<\" & KeyName & \">\"\nEnd Function\n\
+               Function Twice(ByVal n As Long) As Long\n    Twice = 2 * n\nEnd Function\n\
+               Sub Main()\n    Range(\"A1\").Value = \"x1\": Range(\"A2\").Value = 7\n\
+               Dim r As Range: Set r = Range(\"A1:A2\")\n\
+               Debug.Print Tag(r.Cells(1))\n    Debug.Print Tag(KeyName:=r.Cells(2))\n\
+               Debug.Print CStr(Twice(Range(\"A2\")))\nEnd Sub\n";
+    assert_eq!(printed(src), ["<x1>", "<7>", "14"]);
+}
+
+// [MS-VBAL] 5.3.1.11: each argument bound to a ParamArray is a Variant holding what the argument
+// gave, and a function returning a Collection gives an object reference ("Array function": "a
+// Variant containing an array" of such Variants). A `zip(col(1, 2), col(3))` helper relies on it.
+#[test]
+fn a_function_returning_an_object_given_to_a_param_array() {
+    let src = "Function Mk(n) As Collection\n    Set Mk = New Collection\n    Dim i\n\
+               For i = 1 To n: Mk.Add i: Next\nEnd Function\n\
+               Function Total(ParamArray Args() As Variant) As Long\n    Dim i As Long\n\
+               For i = LBound(Args) To UBound(Args): Total = Total + Args(i).Count: Next\nEnd Function\n\
+               Sub Main()\n    Debug.Print CStr(Total(Mk(2), Mk(3)))\n\
+               Dim v: v = Array(Mk(1), 7)\n    Debug.Print TypeName(v(0)) & \" \" & TypeName(v(1))\nEnd Sub\n";
+    assert_eq!(printed(src), ["5", "Collection Integer"]);
+}
+
+// [MS-VBAL] 5.6.12 "Member Access Expressions": a member access applies to the value of the
+// expression before the dot, a function's call too, so `Pick(d, "b").Name` reads the Name of
+// the object the function returned (a dictionary helper returns the item it finds).
+#[test]
+fn a_member_of_what_a_function_returns() {
+    let src = "Function Pick(d As Object, k) As Variant\n    Set Pick = d(k)\nEnd Function\n\
+               Function Made() As Collection\n    Set Made = New Collection\n    Made.Add 4\nEnd Function\n\
+               Sub Main()\n    Dim d As Object: Set d = CreateObject(\"Scripting.Dictionary\")\n\
+               Set d(\"b\") = ActiveSheet\n    Debug.Print Pick(d, \"b\").Name\n\
+               Debug.Print CStr(Made.Count + Made().Item(1))\nEnd Sub\n";
+    assert_eq!(printed(src), ["Sheet1", "5"]);
+}
+
+// [MS-VBAL] 5.3.1.11: an argument that is an object passes the reference; the Worksheets
+// collection is an object ("Workbook.Worksheets property": "a Sheets collection"), so a helper
+// given it reads its Count and its items (`hasKey(Worksheets, name)` in a key-probing module).
+#[test]
+fn the_worksheets_collection_given_as_an_argument() {
+    let src = "Function CountOf(Container As Variant) As Long\n    CountOf = Container.Count\nEnd Function\n\
+               Function FirstName(Container As Variant) As String\n    FirstName = Container(1).Name\nEnd Function\n\
+               Sub Main()\n    Worksheets.Add\n\
+               Debug.Print CStr(CountOf(Worksheets)) & \" \" & CStr(CountOf(ThisWorkbook.Worksheets))\n\
+               Debug.Print FirstName(Worksheets) = Worksheets(1).Name\nEnd Sub\n";
+    assert_eq!(printed(src), ["2 2", "True"]);
+}
+
+// Microsoft's "Raise method": `object.Raise number, source, description, helpfile,
+// helpcontext`, whose arguments may be named; `Err.Raise Number:=91, Description:="…"` gives
+// Err the description named, in whatever order the names come.
+#[test]
+fn err_raise_takes_its_arguments_by_name() {
+    let src = "Sub Main()\n    On Error Resume Next\n\
+               Err.Raise Number:=91, Description:=\"input can't be empty\"\n\
+               Debug.Print CStr(Err.Number) & \" \" & Err.Description\n    Err.Clear\n\
+               Err.Raise Description:=\"late\", Number:=vbObjectError + 7, Source:=\"Mod\"\n\
+               Debug.Print CStr(Err.Number - vbObjectError) & \" \" & Err.Source & \" \" & Err.Description\nEnd Sub\n";
+    assert_eq!(printed(src), ["91 input can't be empty", "7 Mod late"]);
+}
+
+// [MS-VBAL] 5.3.1.11: an argument that is an object passes the reference, an item of a
+// Collection that holds a Collection too ("Item method": the item itself), so `J(z(1))` with
+// `J(c As Collection)` reads the inner Collection.
+#[test]
+fn a_collections_item_that_is_an_object_given_as_an_argument() {
+    let src = "Function J(c As Collection) As String\n    Dim v\n    For Each v In c: J = J & v & \",\": Next\nEnd Function\n\
+               Sub Main()\n    Dim z As New Collection, a As New Collection\n    a.Add 1: a.Add \"x\"\n    z.Add a\n\
+               Debug.Print J(z(1)) & \" \" & J(z.Item(1))\nEnd Sub\n";
+    assert_eq!(printed(src), ["1,x, 1,x,"]);
+}

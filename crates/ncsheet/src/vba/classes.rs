@@ -498,6 +498,12 @@ impl Interp<'_, '_> {
                 Node::New { class, span } => self.new_object(*class, *span).map(Some),
                 // An object parameter given Nothing holds no object (TypeName "Nothing").
                 Node::Nothing => Ok(Some(Var::Obj(Obj::Value(Value::Blank)))),
+                // `J(z(1))`: an item of a Collection or Dictionary that is an object passes it.
+                Node::Element { var, index, span } if self.store_named(var).is_some() => {
+                    let store = self.store_named(var).expect("checked by the guard");
+                    let key = self.store_key(ctx, index, *span)?;
+                    Ok(Some(self.store_item(&store, &key, *span)?).filter(|v| matches!(v, Var::Obj(_))))
+                }
                 Node::Element { var, index, span } if self.array_object(*id).is_some() => {
                     // An item that is an array passes with its bounds ([MS-VBAL] 2.2).
                     Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_) | Var::Array(_))))
@@ -506,9 +512,13 @@ impl Interp<'_, '_> {
                     let object = self.path(ctx, path);
                     self.take_pending()?;
                     Ok(Some(match object? {
-                        o @ (Obj::Instance(_) | Obj::Store(_) | Obj::Sheet(_) | Obj::Workbook | Obj::Files(_)) => {
-                            Var::Obj(o)
-                        }
+                        // `hasKey(Worksheets, "Data")`: the collection of sheets passes as an object.
+                        o @ (Obj::Instance(_)
+                        | Obj::Store(_)
+                        | Obj::Sheet(_)
+                        | Obj::Sheets
+                        | Obj::Workbook
+                        | Obj::Files(_)) => Var::Obj(o),
                         other => match self.operand_of(other, path.span)? {
                             crate::eval::Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                             operand => array_var(ctx.deref(operand), self.option_base()),

@@ -1536,7 +1536,11 @@ impl Interp<'_, '_> {
                 })?,
                 false => match super::longlong::long_long_param(&long_longs, i, param.ty.as_ref()) {
                     Some(whole) => whole,
-                    None => convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?,
+                    None => {
+                        // `F(r.Cells(1))` to `s As String`: a cell gives its value, as Let does.
+                        let var = self.range_as_declared(var, param.ty.as_ref())?;
+                        convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?
+                    }
                 },
             };
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());

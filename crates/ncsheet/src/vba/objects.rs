@@ -138,6 +138,10 @@ impl Interp<'_, '_> {
                 // `r(1).Value = x`: a Range's default member is Item, a cell counted from its top-left.
                 return self.cells(ctx, *sheet, *rect, link);
             }
+            if let (Var::Obj(Obj::Sheets), Some(_)) = (&var, &link.args) {
+                // `Container(1).Name` with Container given Worksheets: the collection's Item.
+                return self.sheet_or_group(ctx, link);
+            }
             if let (Var::Obj(Obj::Areas(sheet, areas)), Some(_)) = (&var, &link.args) {
                 // Of several areas, Item counts from the first area's top-left.
                 return self.cells(ctx, *sheet, areas[0], link);
@@ -349,9 +353,9 @@ impl Interp<'_, '_> {
                 Ok(Obj::Value(Value::Blank))
             }
             "raise" => {
-                let values = self.values(ctx, link)?;
-                let number = values.first().map(|v| self.number_of(v, "Err.Raise's number")).transpose();
-                let number = number.map_err(|m| self.fault_at(link.span, m))?.unwrap_or(0.0);
+                let values = self.raise_args(ctx, link)?;
+                let number =
+                    self.number_of(&values[0], "Err.Raise's number").map_err(|m| self.fault_at(link.span, m))?;
                 if number == 0.0 || !LONG.contains(&number) {
                     return Err(self.fault_at(link.span, "Err.Raise takes an error number, a Long other than 0"));
                 }
@@ -370,6 +374,28 @@ impl Interp<'_, '_> {
             }
             _ => Err(self.no_member(&Obj::Err, link)),
         }
+    }
+
+    /// Err.Raise's Number, Source and Description, each given by place or by name ("Raise
+    /// method": `object.Raise number, source, description, helpfile, helpcontext`, named
+    /// arguments allowed), blank when left out.
+    fn raise_args(&self, ctx: &mut Ctx, link: &Link) -> Run<[Value; 3]> {
+        const NAMES: [&str; 5] = ["number", "source", "description", "helpfile", "helpcontext"];
+        let mut out = [Value::Blank, Value::Blank, Value::Blank];
+        for (i, a) in link.args.as_deref().unwrap_or(&[]).iter().enumerate() {
+            let at = match &a.name {
+                Some(n) => NAMES.iter().position(|k| n.eq_ignore_ascii_case(k)).ok_or_else(|| {
+                    self.fault_at(link.span, format!("Err.Raise has no argument named {n} (run-time error 448)"))
+                })?,
+                None => i,
+            };
+            let v = ctx.eval(&a.value).unwrap_single();
+            self.take_pending()?;
+            if let Some(slot) = out.get_mut(at) {
+                *slot = v;
+            }
+        }
+        Ok(out)
     }
 
     /// The index of a field `link` names in the Type of the record at `path`.

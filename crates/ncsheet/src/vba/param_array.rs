@@ -91,16 +91,22 @@ impl Interp<'_, '_> {
         let mut held = Vec::with_capacity(values.len());
         for value in values {
             let mut ty = Declared::Variant;
+            // `zip(col(1, 2), col(3))`: a function's result is taken as it is, an object with it.
+            if let Some(var) = self.call_argument(value) {
+                let var = var?;
+                if let Var::Value(v) = &var {
+                    ty = self.variant_item_type(value, v);
+                }
+                items.push(var);
+                held.push(ty);
+                continue;
+            }
             let var = match self.object_arg(ctx, value)? {
                 Some(object) => object,
                 None => match ctx.operand(value) {
                     Operand::Ref(sheet, rect) => Var::Obj(Obj::Range(sheet, rect)),
                     Operand::Value(v) => {
-                        if self.as_date(value, &v).is_some() {
-                            ty = Declared::Date;
-                        } else if matches!(v, Value::Number(_)) {
-                            ty = self.value_type(value, &v);
-                        }
+                        ty = self.variant_item_type(value, &v);
                         match &value.kind {
                             ExprKind::Name(n) => self.lookup(n).unwrap_or(Var::Value(v)),
                             _ => self.array_of_call(value, &v).unwrap_or_else(|| array_var(v, self.option_base())),
@@ -116,9 +122,20 @@ impl Interp<'_, '_> {
         Ok(zero_based(items, held))
     }
 
+    /// The type a Variant item keeps of the value `value` gave: a Date, or a number's own type.
+    fn variant_item_type(&self, value: &Expr, v: &Value) -> Declared {
+        if self.as_date(value, v).is_some() {
+            Declared::Date
+        } else if matches!(v, Value::Number(_)) {
+            self.value_type(value, v)
+        } else {
+            Declared::Variant
+        }
+    }
+
     /// `Array(c, 2)` where an argument is a variable holding an object (a Collection, an
-    /// object of a class, a Worksheet) or `New …`: a Variant array whose item holds the object
-    /// reference, as a Variant does ("Array function": "a Variant containing an array";
+    /// object of a class, a Worksheet), `New …` or a Function's call: a Variant array whose
+    /// item holds the object reference, as a Variant does ("Array function": "a Variant containing an array";
     /// [MS-VBAL] 2.2), from `lower`. Likewise `Array(m, p)` where a variable holds an array:
     /// the item keeps that array's bounds (`Dim p(1 To 3)` stays 1 To 3, [MS-VBAL] 2.2: an
     /// array value carries its bounds), which the evaluator's Array, holding plain values,
@@ -130,7 +147,10 @@ impl Interp<'_, '_> {
                 Some(Var::Array(_)) => true,
                 _ => false,
             },
-            ExprKind::Host(id) => matches!(self.module.nodes[*id as usize], super::ast::Node::New { .. }),
+            // `Array(Mk(1), 7)`: a Function's result, which may be an object or an array.
+            ExprKind::Host(id) => {
+                matches!(self.module.nodes[*id as usize], super::ast::Node::New { .. } | super::ast::Node::Call { .. })
+            }
             _ => false,
         };
         if !args.iter().any(keeps_itself) {

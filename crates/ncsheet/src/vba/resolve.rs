@@ -729,12 +729,26 @@ impl Build<'_> {
                 return self.qualified_variable(pair, variable, &module, statement, end);
             }
         }
-        self.check_path(pair, &path)?;
         let root = &path.links[0];
-        if !self.is_var(&root.name) && !self.is_object(&lower_bare(&root.name)) {
+        let not_object = !self.is_var(&root.name) && !self.is_object(&lower_bare(&root.name));
+        if not_object && self.proc_index(&root.name).is_some() {
+            return self.members_of_call(pair, path, end);
+        }
+        self.check_path(pair, &path)?;
+        if not_object {
             return Err(self.error_at(pair, self.not_an_object(&root.name)));
         }
         Ok(self.node(Node::Path(path), at, end))
+    }
+
+    /// `dictget(d, "b").Name`: the members of what a procedure of the project returns, as of
+    /// any expression's value ([MS-VBAL] 5.6.12 "Member Access Expressions": the member of
+    /// the value of the expression before the dot).
+    fn members_of_call(&self, pair: &Pair<Rule>, mut path: Path, end: usize) -> Res<Expr> {
+        let rest = path.links.split_off(1);
+        let call = path.links.pop().expect("the path's root");
+        let base = self.single(pair, call, false, end)?;
+        self.members(pair, Some(base), Path { with: false, links: rest, span: path.span }, end)
     }
 
     /// Why a path's first name is refused; a class module's name says what would make it an

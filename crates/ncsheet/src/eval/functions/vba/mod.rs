@@ -856,9 +856,19 @@ fn str_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     }
     lift_vba_values(ctx, values, "Str", NO_NULL, &|v| {
         let n = vba_number(&v[0])?;
-        let text = vba_number_shown(n, single);
+        let text = without_units_zero(vba_number_shown(n, single));
         Ok(Value::text(if n >= 0.0 { format!(" {text}") } else { text }))
     })
+}
+
+/// Str shows a number between -1 and 1 without its units' zero (`Str(0.1)` is " .1",
+/// `Str(-0.5)` "-.5"), as BASIC's PRINT did; CStr keeps it ("0.1"). LibreOffice drops the
+/// zero in VBA mode only, to match Excel's VBA.
+fn without_units_zero(text: String) -> String {
+    match text.strip_prefix("-0.").or_else(|| text.strip_prefix("0.")) {
+        Some(fraction) => format!("{}.{fraction}", if text.starts_with('-') { "-" } else { "" }),
+        None => text,
+    }
 }
 
 fn iif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
