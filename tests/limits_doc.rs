@@ -321,3 +321,336 @@ fn the_doc_numbers_are_read_in_each_spelling() {
     assert_eq!(eval.value("1_000_000", 0), Some(1e6));
     assert_eq!(eval.value("2_147_483_647.0", 0), Some(2_147_483_647.0));
 }
+
+/// The text of every string literal of the workspace's sources, cut at its format holes
+/// (`{limit}`, `{}`, `{:.1}`) into the pieces a message is made of, each piece's runs of
+/// white space one space (a literal continued with `\` on the next line reads as one line).
+fn message_pieces(root: &Path) -> Vec<String> {
+    let mut files = Vec::new();
+    for dir in ["crates/ncsheet/src", "crates/ncsheet-server/src", "src"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    let mut pieces = Vec::new();
+    for path in files {
+        let text = std::fs::read_to_string(&path).unwrap();
+        for literal in string_literals(&text) {
+            pieces.extend(format_pieces(&literal).into_iter().map(|p| one_line(&p)));
+        }
+    }
+    pieces
+}
+
+/// The string literals of Rust source `text`, escapes undone: `"…"`, `r"…"`, `r#"…"#`, `b"…"`;
+/// comments and character literals (`'"'`) skipped, so that a quote in them starts nothing.
+fn string_literals(text: &str) -> Vec<String> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'/' if b.get(i + 1) == Some(&b'/') => i = text[i..].find('\n').map_or(b.len(), |n| i + n),
+            b'/' if b.get(i + 1) == Some(&b'*') => i = text[i + 2..].find("*/").map_or(b.len(), |n| i + n + 4),
+            b'\'' => i = after_char_literal(b, i),
+            b'r' if !word_before(b, i) && matches!(b.get(i + 1), Some(b'"' | b'#')) => {
+                let hashes = b[i + 1..].iter().take_while(|&&c| c == b'#').count();
+                if b.get(i + 1 + hashes) != Some(&b'"') {
+                    i += 1;
+                    continue;
+                }
+                let start = i + 2 + hashes;
+                let close = format!("\"{}", "#".repeat(hashes));
+                let end = text[start..].find(&close).map_or(b.len(), |n| start + n);
+                out.push(text[start..end].to_string());
+                i = end + close.len();
+            }
+            b'"' => {
+                let start = i + 1;
+                let mut end = start;
+                while end < b.len() && b[end] != b'"' {
+                    end += if b[end] == b'\\' { 2 } else { 1 };
+                }
+                out.push(unescape(&text[start..end.min(b.len())]));
+                i = end + 1;
+            }
+            _ => i += 1,
+        }
+    }
+    out
+}
+
+/// Whether the byte before `i` continues a word (`for"`, `attr"`: no raw string starts there).
+fn word_before(b: &[u8], i: usize) -> bool {
+    i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_')
+}
+
+/// Where the character literal or lifetime starting at the `'` at `i` ends.
+fn after_char_literal(b: &[u8], i: usize) -> usize {
+    match (b.get(i + 1), b.get(i + 2)) {
+        // `'\''`, `'\n'`, `'\u{…}'`: up to the closing quote.
+        (Some(b'\\'), _) => b[i + 3..].iter().position(|&c| c == b'\'').map_or(b.len(), |n| i + 3 + n + 1),
+        (Some(_), Some(b'\'')) => i + 3,
+        // A character of several bytes (`'…'`), or a lifetime (`'a`), which has no closing quote.
+        _ => {
+            let end = (i + 6).min(b.len());
+            b[i + 1..end].iter().position(|&c| c == b'\'').map_or(i + 1, |n| i + 1 + n + 1)
+        }
+    }
+}
+
+/// A normal string literal's text: `\n`, `\t`, `\"`, `\\`, `\'`, `\0`, `\u{…}` undone, and a
+/// `\` at a line's end taking the line break and the next line's indentation with it.
+fn unescape(raw: &str) -> String {
+    let mut out = String::new();
+    let mut chars = raw.chars().peekable();
+    while let Some(c) = chars.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match chars.next() {
+            Some('n') => out.push('\n'),
+            Some('t') => out.push('\t'),
+            Some('0') => out.push('\0'),
+            Some('u') => {
+                let code: String = chars.by_ref().skip(1).take_while(|&c| c != '}').collect();
+                out.extend(u32::from_str_radix(&code, 16).ok().and_then(char::from_u32));
+            }
+            Some('\n') => {
+                while chars.peek().is_some_and(|c| c.is_whitespace()) {
+                    chars.next();
+                }
+            }
+            Some(other) => out.push(other),
+            None => {}
+        }
+    }
+    out
+}
+
+/// A format string's literal pieces between its holes (`{}`, `{n:.1}`); `{{` and `}}` are
+/// braces. A string that is no format string cut the same way loses nothing a quote needs.
+fn format_pieces(literal: &str) -> Vec<String> {
+    let mut pieces = vec![String::new()];
+    let mut chars = literal.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '{' if chars.peek() == Some(&'{') => {
+                chars.next();
+                pieces.last_mut().unwrap().push('{');
+            }
+            '}' if chars.peek() == Some(&'}') => {
+                chars.next();
+                pieces.last_mut().unwrap().push('}');
+            }
+            '{' => {
+                for c in chars.by_ref() {
+                    if c == '}' {
+                        break;
+                    }
+                }
+                pieces.push(String::new());
+            }
+            c => pieces.last_mut().unwrap().push(c),
+        }
+    }
+    pieces
+}
+
+/// `text` with each run of white space one space (kept at its ends: a piece ends where a
+/// hole begins, `"… is reached: {why}"`).
+fn one_line(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if !c.is_whitespace() {
+            out.push(c);
+        } else if !out.ends_with(' ') {
+            out.push(' ');
+        }
+    }
+    out
+}
+
+/// A word of a quoted message that stands for what varies: a number (`inf` and `NaN` too),
+/// `…`, a placeholder in capitals (`N`, `FILE`, `PART`) or of one letter (`(x, y)`), a quoted
+/// name (`'Sheet1'`) or an option (`--max-string`, whose hint the code composes).
+fn varies(word: &str) -> bool {
+    let core = word.trim_matches(|c: char| ".,:;()'\"".contains(c));
+    word.contains(|c: char| c.is_ascii_digit())
+        || word.contains('…')
+        || ["inf", "-inf", "NaN"].contains(&core)
+        || core.len() == 1 && core != "a" && core.chars().all(|c| c.is_ascii_alphabetic())
+        || !core.is_empty() && core.chars().all(|c| c.is_ascii_uppercase() || c == '_')
+        || word.trim_start_matches('(').starts_with('\'') && word[1..].contains('\'')
+        || word.trim_start_matches('(').starts_with("--")
+}
+
+/// The fixed runs of words of each message the table of limits quotes in its last column,
+/// "what happens past it" (the error a user sees), with the quote they come from: runs of
+/// 12 characters and two words or more, cut at the words that vary. Other tables (the
+/// constants') describe, and quote code rather than messages.
+fn quoted_runs(doc: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut in_limits = false;
+    for line in doc.lines() {
+        if !line.starts_with('|') {
+            in_limits = false;
+            continue;
+        }
+        if line.starts_with("| limit |") {
+            in_limits = true;
+            continue;
+        }
+        let Some(last) = line.trim_end().trim_end_matches('|').rsplit(" | ").next().filter(|_| in_limits) else {
+            continue;
+        };
+        for quote in last.split('`').skip(1).step_by(2) {
+            if quote.matches(' ').count() < 2 || quote.starts_with('=') {
+                continue;
+            }
+            let mut run: Vec<&str> = Vec::new();
+            for word in quote.split(' ').chain(["…"]) {
+                if !varies(word) {
+                    run.push(word);
+                    continue;
+                }
+                let text = run.join(" ");
+                if text.len() >= 12 && run.len() >= 2 {
+                    out.push((text, quote.to_string()));
+                }
+                run.clear();
+            }
+        }
+    }
+    out
+}
+
+/// The pieces of the code's literals, looked up three ways.
+struct Messages {
+    pieces: Vec<String>,
+    whole: std::collections::HashSet<String>,
+    /// Every piece, `\u{1}` between them: a run inside one piece is a substring.
+    joined: String,
+}
+
+/// The characters a part of a run must have for the match to hold by itself: a letter or two
+/// at a hole's edge match some piece by chance.
+const ANCHOR: usize = 6;
+
+/// The most parts a run is made of (three holes crossed): with more, chains of one-letter
+/// literals (`"a"`, `"n"`) would make any text.
+const MAX_PARTS: u8 = 4;
+
+impl Messages {
+    fn new(pieces: Vec<String>) -> Messages {
+        let pieces: Vec<String> = pieces.into_iter().filter(|p| !p.is_empty()).collect();
+        let joined = pieces.join("\u{1}");
+        Messages { whole: pieces.iter().cloned().collect(), pieces, joined }
+    }
+
+    /// Whether `run` is what the code writes: inside one piece of a literal, or pieces
+    /// joined where the code fills a hole (`"…({limit}) is reached: {why} ({hint})"` with
+    /// `why` and `hint` other literals): the end of one piece, whole pieces, the start of
+    /// another, at most [`MAX_PARTS`] in all and one of them at least [`ANCHOR`] characters.
+    fn write(&self, run: &str) -> bool {
+        const NONE: u8 = u8::MAX;
+        if self.joined.contains(run) {
+            return true;
+        }
+        let ends: Vec<usize> = run.char_indices().map(|(at, _)| at).chain([run.len()]).collect();
+        // fewest[k][anchored]: the fewest parts making run[..ends[k]] (a piece's end, then whole
+        // pieces), with or without a part of ANCHOR characters among them.
+        let mut fewest = vec![[NONE; 2]; ends.len()];
+        for (k, &end) in ends.iter().enumerate().take(ends.len() - 1).skip(1) {
+            if self.pieces.iter().any(|p| p.ends_with(&run[..end])) {
+                fewest[k][usize::from(end >= ANCHOR)] = 1;
+            }
+        }
+        for k in 1..ends.len() {
+            for anchored in [false, true] {
+                let parts = fewest[k][usize::from(anchored)];
+                if parts >= MAX_PARTS {
+                    continue;
+                }
+                let rest = &run[ends[k]..];
+                let holds = anchored || rest.len() >= ANCHOR;
+                if !rest.is_empty() && holds && self.pieces.iter().any(|p| p.starts_with(rest)) {
+                    return true;
+                }
+                for j in k + 1..ends.len() {
+                    if self.whole.contains(&run[ends[k]..ends[j]]) {
+                        let slot = &mut fewest[j][usize::from(anchored || ends[j] - ends[k] >= ANCHOR)];
+                        *slot = (*slot).min(parts + 1);
+                    }
+                }
+            }
+        }
+        fewest[ends.len() - 1][1] != NONE
+    }
+}
+
+/// docs/limits.md quotes the error a user sees past each limit: each quote's fixed words are
+/// what the code writes (its format holes standing for what varies), so a message changed
+/// in the code, or mistyped in the doc, fails here until the two agree.
+#[test]
+fn every_error_docs_limits_md_quotes_is_what_the_code_writes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("docs/limits.md")).unwrap();
+    let messages = Messages::new(message_pieces(root));
+    let runs = quoted_runs(&doc);
+    assert!(runs.len() > 100, "the doc's quotes gave only {} runs", runs.len());
+    let wrong: Vec<String> = runs
+        .iter()
+        .filter(|(run, _)| !messages.write(run))
+        .map(|(run, quote)| format!("{run:?}\n    in `{quote}`"))
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "docs/limits.md quotes words no message of the code writes ({} of {}):\n{}",
+        wrong.len(),
+        runs.len(),
+        wrong.join("\n")
+    );
+}
+
+/// The pieces of the code's text, worked by hand: escapes, continued lines, format holes,
+/// a quote in a comment or a character literal; runs matched across holes.
+#[test]
+fn the_code_is_read_into_the_pieces_of_its_messages() {
+    let source =
+        "let c = '\"'; // \"not this\"\nf(\"a {x} b\\\n     c {{d}} {:.1}\", r#\"raw \"q\"\"#, 'a', b'\\'', \"é\");";
+    let literals = string_literals(source);
+    // A continued line loses its break and the next line's indentation, as Rust reads it.
+    assert_eq!(literals, ["a {x} bc {{d}} {:.1}", "raw \"q\"", "é"]);
+    assert_eq!(format_pieces(&literals[0]), ["a ", " bc {d} ", ""]);
+    assert_eq!(one_line(" a \n   b "), " a b ");
+    let messages = Messages::new(
+        [
+            "the statement limit (",
+            ") is reached: ",
+            " (",
+            ")",
+            "an endless loop?",
+            "raise the limit with --max-statements",
+            " that cannot be read: ",
+            "sheet '",
+            "an Excel workbook",
+        ]
+        .map(String::from)
+        .into(),
+    );
+    assert!(messages.write("is reached: an endless loop? (raise the limit with"));
+    assert!(messages.write("the statement limit"));
+    assert!(!messages.write("is reached: a loop without end"));
+    assert!(!messages.write("is reached: an endless loop? (raise it with"));
+    // A short end is taken once a longer part holds the match.
+    assert!(messages.write("workbook that cannot be read: sheet"));
+    assert!(!messages.write("workbook that cannot be read: shelf"));
+    // One-letter literals chained make nothing.
+    let letters = Messages::new("an endls!(rit".chars().map(String::from).chain(["s limit (".into()]).collect());
+    assert!(!letters.write("s limit (an endless loop! (raise it"));
+    let quote = "the statement limit (N) is reached: an endless loop? (raise it with --max-statements)";
+    let table = format!("| limit | value | where | past it |\n|---|---|---|---|\n| x | 1 | y | stops: `{quote}` |");
+    let runs: Vec<String> = quoted_runs(&table).into_iter().map(|r| r.0).collect();
+    assert_eq!(runs, ["the statement limit", "is reached: an endless loop? (raise it with"]);
+    assert!(quoted_runs("| `MAX_X` in `a.rs` | 1 | limit | one `Rows.Hidden = True` hides |").is_empty());
+}
