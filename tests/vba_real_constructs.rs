@@ -453,3 +453,15 @@ fn a_collections_item_that_is_an_object_given_as_an_argument() {
                Debug.Print J(z(1)) & \" \" & J(z.Item(1))\nEnd Sub\n";
     assert_eq!(printed(src), ["1,x, 1,x,"]);
 }
+
+// Microsoft's "CompareMode property" (Scripting.Dictionary): the compare method's values are
+// 0 binary, 1 text and 2 database, which the Scripting library names BinaryCompare,
+// TextCompare and DatabaseCompare, so `d.CompareMode = TextCompare` compiles under Option
+// Explicit and makes the keys ignore case.
+#[test]
+fn the_scripting_compare_method_constants() {
+    let src = "Option Explicit\nSub Main()\n    Dim d As New Dictionary\n    d.CompareMode = TextCompare\n\
+               d.Add \"a\", 1\n    Debug.Print d.Exists(\"A\")\n\
+               Debug.Print CStr(BinaryCompare) & CStr(TextCompare) & CStr(DatabaseCompare)\nEnd Sub\n";
+    assert_eq!(printed(src), ["True", "012"]);
+}

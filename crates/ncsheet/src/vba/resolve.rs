@@ -173,6 +173,11 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "vbusecompareoption" => number(-1.0),
         "vbbinarycompare" => number(0.0),
         "vbtextcompare" => number(1.0),
+        // The Scripting library's CompareMethod ("CompareMode property": binary, text, database),
+        // which `d.CompareMode = TextCompare` names without the vb prefix.
+        "binarycompare" => number(0.0),
+        "textcompare" => number(1.0),
+        "databasecompare" => number(2.0),
         "vbuppercase" => number(1.0),
         "vblowercase" => number(2.0),
         "vbpropercase" => number(3.0),
