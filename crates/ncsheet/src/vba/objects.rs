@@ -203,9 +203,9 @@ impl Interp<'_, '_> {
     }
 
     /// The refusal of a file dialog (`Application.GetSaveAsFilename` …): no user answers it.
-    /// `On Error` does not skip it, as the macro would go on with no file name.
+    /// `On Error` may trap it, as real drivers do to run the rest of a macro without its file.
     fn no_dialog(&self, link: &Link) -> crate::vba::interp::Fault {
-        let mut fault = self.fault_at(
+        self.fault_at(
             link.span,
             format!(
                 "Application.{}: a macro runs without a user, so no file dialog opens; give the file's \
@@ -213,9 +213,7 @@ impl Interp<'_, '_> {
                  ThisWorkbook.Path, the --out-dir folder, or read a file given with --in-file",
                 link.name
             ),
-        );
-        fault.code = super::unmodelled::NOT_MODELLED;
-        fault
+        )
     }
 
     pub(super) fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
