@@ -110,3 +110,15 @@ pub fn module1(source: &str) -> ncsheet::vba::project::VbaProject {
         protection: None,
     }
 }
+
+/// A macro run on a one-sheet workbook with the project's class modules (name, source as the
+/// VBA project stores it, `Attribute` lines included), failing or not.
+pub fn run_with_classes(
+    main: &str,
+    classes: &[(&str, &str)],
+) -> Result<ncsheet::vba::RunOutput, ncsheet::vba::MacroError> {
+    let mut wb = ncsheet::workbook::Workbook::with_sheet();
+    let classes = classes.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();
+    let options = ncsheet::vba::RunOptions { classes, ..ncsheet::vba::RunOptions::default() };
+    ncsheet::vba::run(&mut wb, main, "Module1.bas", &options)
+}

@@ -9,7 +9,7 @@ use crate::eval::{Array, Ctx, Operand, Value};
 use crate::formula::address::Rect;
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Link, Node, Param, Span, Ty};
+use super::ast::{Arg, Link, Node, Param, Span, Ty};
 use super::interp::{Interp, Run};
 use super::typing::Declared;
 use super::value::{convert, default_value, Obj, VArray, Var};
@@ -132,6 +132,12 @@ impl Interp<'_, '_> {
         if !plain {
             if let Some(h) = self.store_named(name) {
                 return self.store_operand(ctx, &h, index, span);
+            }
+            if let Some(Var::Obj(Obj::Instance(object))) = self.lookup(name) {
+                // `bag(2)`: the object's default member ([MS-VBAL] 5.6.13.1).
+                let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+                let got = self.default_member(ctx, &object, &args, span)?;
+                return self.operand_of(got, span);
             }
             if let Some(r) = self.regex_named(name) {
                 return match self.regex_element_item(&r, index, span)? {
@@ -758,6 +764,11 @@ pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
         ..VArray::plain(Rc::new(Array::filled(0, 0, Value::Blank)), (0, 0), 0)
     })
+}
+
+/// `Dim a() As Variant` before its first `ReDim`: an array of no dimensions yet.
+pub(super) fn without_bounds() -> VArray {
+    VArray { dims: 0, ..VArray::row(Rc::new(Array::filled(0, 0, Value::Blank)), 0) }
 }
 
 /// VBA's limit on an array's dimensions ("Dim statement": "up to 60 dimensions").

@@ -92,6 +92,18 @@ pub struct Part {
     /// A class module with `Attribute VB_PredeclaredId = True` (as exported .cls files and
     /// UserForms carry): it has a default instance named after the class (`classes.rs`).
     pub predeclared: bool,
+    /// A class module's members reached without their names (`classes.rs`).
+    pub special: SpecialMembers,
+}
+
+/// The members of a class module that VBA reaches without naming them, as the editor keeps
+/// them in the module's source (`Attribute Item.VB_UserMemId = 0` inside the procedure, or
+/// after a public variable): the default member (DISPID 0: `obj(1)`, `x = obj`) and the
+/// enumerator (DISPID_NEWENUM, -4: `For Each x In obj`).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SpecialMembers {
+    pub default: Option<Rc<str>>,
+    pub enumerator: Option<Rc<str>>,
 }
 
 impl Module {
@@ -563,7 +575,7 @@ pub struct Link {
     pub span: Span,
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Arg {
     /// `x:=1`
     pub name: Option<Rc<str>>,

@@ -12,12 +12,14 @@ use std::fmt;
 use std::rc::Rc;
 
 use crate::eval::functions::vba::errors;
-use crate::eval::{Ctx, Value};
+use crate::eval::{Ctx, Operand, Value};
 use crate::formula::ast::{Expr, ExprKind};
 
-use super::ast::{Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span, Stmt, StmtKind, Ty, VarDecl};
+use super::ast::{
+    Arg, ClassDef, Link, Made, Node, Part, ProcKind, PropertyKind, Span, SpecialMembers, Stmt, StmtKind, Ty, VarDecl,
+};
 use super::collections::{var_obj, Handle};
-use super::interp::{Call, Fault, Interp, Run};
+use super::interp::{Call, Fault, Frame, Interp, Run};
 use super::value::{array_var, convert, range_var, Obj, Slots, Var};
 
 /// What one object costs the memory budget besides its variables' values.
@@ -95,6 +97,14 @@ pub(super) fn let_go(mut pending: Vec<Var>) {
     }
 }
 
+/// What a member gave as a variable holds it: a value, or an object.
+pub(super) fn obj_var(obj: Obj) -> Var {
+    match obj {
+        Obj::Value(v) => Var::Value(v),
+        other => Var::Obj(other),
+    }
+}
+
 /// The class modules among a project's parts, in order (`Made::Object(i)`).
 pub(super) fn class_defs(parts: &[Part]) -> Vec<ClassDef> {
     let classes = parts.iter().enumerate().filter(|(_, p)| p.class);
@@ -119,6 +129,33 @@ pub(super) fn has_predeclared_id(source: &str) -> bool {
         let Some((name, value)) = rest.split_once('=') else { return false };
         name.trim() == "vb_predeclaredid" && matches!(value.trim(), "true" | "-1")
     })
+}
+
+/// A class module's default member and enumerator, from the `Attribute <Member>.VB_UserMemId
+/// = 0` (DISPID_VALUE) and `= -4` (DISPID_NEWENUM) lines the VBA editor keeps in the module's
+/// stored source and in an exported .cls ([MS-OVBA] 2.3.4.3's module source keeps them; the
+/// numbers are COM's dispatch ids, which VBA's `obj(…)` and `For Each` use).
+pub(super) fn special_members(source: &str) -> SpecialMembers {
+    let mut special = SpecialMembers::default();
+    for (member, id) in source.lines().filter_map(user_mem_id) {
+        match id {
+            0 => special.default = Some(member.into()),
+            -4 => special.enumerator = Some(member.into()),
+            _ => {}
+        }
+    }
+    special
+}
+
+/// `Attribute Item.VB_UserMemId = 0`: the member and its id.
+fn user_mem_id(line: &str) -> Option<(&str, i64)> {
+    let line = line.trim();
+    let rest = line.get(..10).filter(|w| w.eq_ignore_ascii_case("attribute "))?;
+    let rest = line[rest.len()..].trim_start();
+    let (name, value) = rest.split_once('=')?;
+    let (member, attribute) = name.trim().split_once('.')?;
+    let id = value.trim().parse().ok()?;
+    attribute.eq_ignore_ascii_case("vb_usermemid").then_some((member.trim(), id))
 }
 
 /// The default instances of the project's predeclared classes (by name and class): each a
@@ -285,37 +322,164 @@ impl Interp<'_, '_> {
         let class = object.0.class;
         if let Some(proc) = self.public_proc(class, &link.name, None) {
             let args = link.args.as_deref().unwrap_or(&[]);
-            let result = self.call_method(ctx, object, proc, args, None, link.span)?;
+            // `obj.Items(1)` of a member without parameters: the arguments index what it gives.
+            let p = &self.module.procs[proc];
+            let (own, then) = match p.params.is_empty() && p.kind == ProcKind::Function {
+                true if !args.is_empty() => (&[][..], Some(args)),
+                _ => (args, None),
+            };
+            let result = self.call_method(ctx, object, proc, own, None, link.span)?;
+            if let Some(args) = then {
+                return self.indexed(ctx, result, args, link);
+            }
             if let Var::Array(a) = &result {
                 *self.method_array.borrow_mut() = Some(a.clone());
             }
             return Ok(var_obj(result));
         }
         let Some(var) = self.public_field(object, &link.name) else { return Err(self.no_such_member(object, link)) };
-        match (var, link.args.as_deref()) {
-            (var, None) => Ok(var_obj(var)),
-            (Var::Array(a), Some(args)) => {
-                let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
+        match link.args.as_deref() {
+            None => Ok(var_obj(var)),
+            Some(args) => self.indexed(ctx, var, args, link),
+        }
+    }
+
+    /// `held(args)`, what a member without parameters gave indexed by the arguments after it:
+    /// an item of an array, of a Collection or a Dictionary (their default member, Item:
+    /// "Collection object", "Dictionary object"), or an object's default member ([MS-VBAL]
+    /// 5.6.13.1: an index expression on an object is a call of its default member).
+    fn indexed(&self, ctx: &mut Ctx, held: Var, args: &[Arg], link: &Link) -> Run<Obj> {
+        match held {
+            Var::Array(a) => {
                 let mut at = Vec::new();
-                for e in &index {
-                    at.push(self.index(e, "an array index")?);
+                for arg in args {
+                    at.push(self.index(&arg.value, "an array index")?);
                 }
                 let k =
                     self.element_at(&a, &at).map_err(|m| self.fault_at(link.span, format!("{}: {m}", link.name)))?;
                 // The item as the array holds it: an object stays one (`this.Parts(1).Name`).
                 Ok(var_obj(a.item(k)))
             }
-            // `this.Items(1)`: a Collection or a Dictionary the object holds, indexed by its
-            // default member, Item ("Collection object", "Dictionary object").
-            (Var::Obj(Obj::Store(h)), Some(args)) => {
+            Var::Obj(Obj::Store(h)) => {
                 let index: Vec<Expr> = args.iter().map(|a| a.value.clone()).collect();
                 let key = self.store_key(ctx, &index, link.span)?;
                 self.store_item(&h, &key, link.span).map(var_obj)
             }
-            (_, Some(_)) => {
-                Err(self.fault_at(link.span, format!("{} is a variable of the object, not an array", link.name)))
+            Var::Obj(Obj::Instance(inner)) => self.default_member(ctx, &inner, args, link.span),
+            _ => Err(self.fault_at(link.span, format!("{} is a variable of the object, not an array", link.name))),
+        }
+    }
+
+    /// The members VBA reaches without their names in `object`'s class.
+    fn special(&self, object: &Instance) -> &SpecialMembers {
+        &self.module.parts[self.module.classes[object.0.class].part].special
+    }
+
+    /// `obj(args)` read: the class's default member called with the arguments (`Attribute
+    /// Item.VB_UserMemId = 0`). A class without one: VBA's error 438.
+    pub(super) fn default_member(&self, ctx: &mut Ctx, object: &Instance, args: &[Arg], span: Span) -> Run<Obj> {
+        let link = self.default_link(object, args, span)?;
+        self.instance_member(ctx, object, &link)
+    }
+
+    /// `obj(args) = value`, `Set obj(args) = value` and `obj = value` of an object variable:
+    /// the default member's Property Let or Set, or its public variable ([MS-VBAL] 5.4.3.8).
+    pub(super) fn set_default_member(
+        &self,
+        ctx: &mut Ctx,
+        object: &Instance,
+        args: &[Arg],
+        value: &Expr,
+        span: Span,
+    ) -> Run<()> {
+        let link = self.default_link(object, args, span)?;
+        self.set_instance_member(ctx, object, &link, value)
+    }
+
+    /// What `For Each x In obj` goes through: for an object of a class with an enumerator
+    /// (`Attribute NewEnum.VB_UserMemId = -4`), what that member gives (usually a Collection's
+    /// `[_NewEnum]`); anything else is itself.
+    pub(super) fn enumerated(&self, group: Var, e: &Expr) -> Run<Var> {
+        let Var::Obj(Obj::Instance(object)) = &group else { return Ok(group) };
+        let Some(name) = self.special(object).enumerator.clone() else { return Ok(group) };
+        let link = Link { name, args: None, span: self.expr_span(e) };
+        self.instance_member(&mut self.ctx(), object, &link).map(obj_var)
+    }
+
+    /// An object given to a parameter of a value type (`ByVal x As Double`): its default
+    /// member's value, as a Let would give it ([MS-VBAL] 5.3.1.11: the argument is let-coerced
+    /// to the parameter's declared type). Other arguments pass as they are.
+    pub(super) fn object_to_param(&self, arg: Var, ty: Option<&Ty>) -> Run<Var> {
+        match (&arg, ty) {
+            (Var::Obj(Obj::Instance(object)), Some(t)) if !matches!(t, Ty::Variant | Ty::Object | Ty::Record(_)) => {
+                self.default_value(object)
+            }
+            _ => Ok(arg),
+        }
+    }
+
+    pub(super) fn has_default_member(&self, object: &Instance) -> bool {
+        self.special(object).default.is_some()
+    }
+
+    /// `object` where a value is wanted, of a class with a default member: that member's value.
+    pub(super) fn instance_operand(&self, object: &Instance) -> Run<Operand> {
+        match self.default_value(object)? {
+            Var::Value(v) | Var::Obj(Obj::Value(v)) => Ok(Operand::Value(v)),
+            Var::Array(a) => Ok(Operand::Value(Value::Array(a.data))),
+            Var::Obj(Obj::Range(sheet, rect)) => Ok(Operand::Ref(sheet, rect)),
+            Var::Obj(other) => Err(self.fault(format!("{} is not a value", other.describe()))),
+            Var::Record(..) => Err(self.fault("a Type value is not a value: use its fields")),
+        }
+    }
+
+    fn default_link(&self, object: &Instance, args: &[Arg], span: Span) -> Run<Link> {
+        let Some(name) = self.special(object).default.clone() else {
+            let class = &self.module.classes[object.0.class].name;
+            let what = format!("{class} has no default member (Attribute <Member>.VB_UserMemId = 0)");
+            return Err(self.object_error(span, NO_MEMBER, &what));
+        };
+        Ok(Link { name, args: (!args.is_empty()).then(|| args.to_vec()), span })
+    }
+
+    /// The value of an object read where a value is wanted (`x = obj`, `Debug.Print obj`, `obj
+    /// + 1`): its default member without arguments, recursively while that gives an object
+    /// ([MS-VBAL] 5.5.1.2, Let-coercion of an object: its default member's value).
+    /// An object of a class without a default member is itself, and so is one met again on the
+    /// way (a default member giving `Me`).
+    pub(super) fn default_value(&self, object: &Instance) -> Run<Var> {
+        let mut object = object.clone();
+        let mut met = std::collections::HashSet::new();
+        loop {
+            let special = self.special(&object).default.clone();
+            let Some(name) = special.filter(|_| met.insert(Rc::as_ptr(&object.0))) else {
+                return Ok(Var::Obj(Obj::Instance(object)));
+            };
+            let got = match self.public_proc(object.0.class, &name, None) {
+                Some(proc) => {
+                    self.default_takes_no_arguments(proc)?;
+                    let call = Call { me: Some(object.clone()), value: None, lent: Vec::new() };
+                    let (result, frame) = self.invoke_frame(proc, Vec::new(), None, call)?;
+                    self.returned(proc, result, &frame)
+                }
+                None => self.public_field(&object, &name).unwrap_or(Var::Value(Value::Blank)),
+            };
+            match got {
+                Var::Obj(Obj::Instance(inner)) => object = inner,
+                other => return Ok(other),
             }
         }
+    }
+
+    /// `x = bag` of a class whose default member needs an index: VBA's error 450.
+    fn default_takes_no_arguments(&self, proc: usize) -> Run<()> {
+        let p = &self.module.procs[proc];
+        let Some(needed) = p.params.iter().find(|q| !q.optional && !q.param_array) else { return Ok(()) };
+        let what =
+            format!("{}.{} (the default member) needs its argument {}", self.class_name(p.part), p.name, needed.name);
+        let mut fault = self.fault(format!("{what}: {} (run-time error 450)", errors::description(450)));
+        fault.code = 450;
+        Err(fault)
     }
 
     fn no_such_member(&self, object: &Instance, link: &Link) -> Fault {
@@ -427,11 +591,17 @@ impl Interp<'_, '_> {
         self.check_member_args(proc, args, value.is_some(), span)?;
         let call = Call { me: Some(object.clone()), value, lent: Vec::new() };
         let (result, frame) = self.call_frame(ctx, proc, args, span, call)?;
+        Ok(self.returned(proc, result, &frame))
+    }
+
+    /// What a member procedure gave: a Function's or Property Get's variable of its name as it
+    /// holds it (an object, an array with its bounds), a Sub's nothing.
+    fn returned(&self, proc: usize, result: Value, frame: &Frame) -> Var {
         let p = &self.module.procs[proc];
-        Ok(match p.kind {
+        match p.kind {
             ProcKind::Function => frame.vars.get(&p.name).map_or(Var::Value(result), |s| s.var().clone()),
             ProcKind::Sub => Var::Value(Value::Blank),
-        })
+        }
     }
 
     /// `a = obj.Items(1)`: the array a class's Function just returned, with its bounds, when

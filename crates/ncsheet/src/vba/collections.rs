@@ -449,6 +449,10 @@ impl Interp<'_, '_> {
         match (class, name.as_str()) {
             (Class::ArrayList, _) => self.array_list_member(&h, link),
             (_, "count") => Ok(Obj::Value(Value::Number(h.0.borrow().len() as f64))),
+            // The hidden enumerator a class's own NewEnum hands on (`Set NewEnum =
+            // mItems.[_NewEnum]`): For Each through it goes through the Collection's items (a
+            // Dictionary's keys), as For Each through the object itself does.
+            (_, "[_newenum]" | "_newenum") => Ok(Obj::Store(h.clone())),
             (Class::Collection, "add") => {
                 let args = self.member_args(link, &["Item", "Key", "Before", "After"])?;
                 self.collection_add(&h, &args, link)?;

@@ -183,6 +183,13 @@ impl Host for Interp<'_, '_> {
             Some(Var::Obj(Obj::Regex(r))) if r.default_value().is_some() => {
                 Operand::Value(r.default_value().unwrap_or_default())
             }
+            // An object of a class with a default member reads as that member's value.
+            Some(Var::Obj(Obj::Instance(object))) if self.has_default_member(&object) => {
+                self.instance_operand(&object).unwrap_or_else(|fault| {
+                    self.park(fault);
+                    Operand::Value(Value::Error(XlError::Value))
+                })
+            }
             Some(Var::Record(..)) => {
                 self.park(self.fault(format!("{name} is a Type value: use its fields ({name}.Field)")));
                 Operand::Value(Value::Error(XlError::Value))
@@ -545,6 +552,7 @@ impl Interp<'_, '_> {
             // A Match reads as its default member, Value ("Match Object").
             Obj::Regex(r) if r.default_value().is_some() => Ok(Operand::Value(r.default_value().unwrap_or_default())),
             Obj::Unkept(what) => Err(self.unkept_read(&what, span)),
+            Obj::Instance(object) if self.has_default_member(&object) => self.instance_operand(&object),
             other => Err(self.fault_at(span, format!("{} is not a value", other.describe()))),
         }
     }

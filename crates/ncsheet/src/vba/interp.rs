@@ -290,6 +290,13 @@ fn static_owner(me: Option<&Instance>) -> usize {
     me.map_or(0, |m| Rc::as_ptr(&m.0) as usize)
 }
 
+/// What a Let to an object variable goes through (`Interp::object_let`).
+enum ObjectLet {
+    Cells(Obj),
+    Instance(Instance),
+    Nothing,
+}
+
 /// What a call of a class module's procedure brings besides its arguments: the object it
 /// runs for, and the value a Property Let or Set assigns (its last parameter).
 #[derive(Default)]
@@ -1006,6 +1013,8 @@ impl Interp<'_, '_> {
                 Some(Var::Obj(Obj::Range(sheet, rect))) if !as_object => {
                     Ok(range_var(self.ctx().rect_value(sheet, rect)))
                 }
+                // `x = obj` without Set: the value of obj's default member.
+                Some(Var::Obj(Obj::Instance(object))) if !as_object => self.default_value(&object),
                 Some(var) => Ok(var),
                 None => Ok(Var::Value(Value::Blank)),
             },
@@ -1076,6 +1085,16 @@ impl Interp<'_, '_> {
                 let Node::Index { base, index, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.indexed_var(base, index, *span)
             }
+            // `Set x = bag(1)`, `TypeName(bag(1))`: what an object's default member gives.
+            ExprKind::Host(_) if self.instance_element(id).is_some() => {
+                let (object, index, span) = self.instance_element(id).expect("an object's item");
+                let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+                let got = super::classes::obj_var(self.default_member(&mut self.ctx(), &object, &args, span)?);
+                match got {
+                    Var::Obj(Obj::Instance(inner)) if !as_object => self.default_value(&inner),
+                    other => Ok(other),
+                }
+            }
             ExprKind::Host(_) if self.store_element(id).is_some() => {
                 let (h, index, span) = self.store_element(id).expect("a Collection's item");
                 let key = self.store_key(&mut self.ctx(), index, span)?;
@@ -1139,6 +1158,18 @@ impl Interp<'_, '_> {
             _ => None,
         });
         store.flatten()
+    }
+
+    /// The node is `bag(i)` of a variable holding an object of a class.
+    fn instance_element(&self, id: u32) -> Option<(Instance, &[Expr], Span)> {
+        let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
+        match self.peek(var, |held| matches!(held, Var::Obj(Obj::Instance(_))))? {
+            true => match self.lookup(var) {
+                Some(Var::Obj(Obj::Instance(object))) => Some((object, index.as_slice(), *span)),
+                _ => None,
+            },
+            false => None,
+        }
     }
 
     /// The node is `c(i)` of a variable holding a Collection or a Dictionary.
@@ -1278,7 +1309,7 @@ impl Interp<'_, '_> {
                 }
             }
             if let Some(object) = self.object_arg(ctx, &a.value)? {
-                bound.push((index, object));
+                bound.push((index, self.object_to_param(object, p.params[index].ty.as_ref())?));
                 continue;
             }
             let var = match ctx.operand(&a.value) {
@@ -1862,13 +1893,9 @@ impl Interp<'_, '_> {
                             Var::Array(self.array_with(&dims, Some(t))?)
                         }
                         // `v() As Double`: a dynamic array without bounds until ReDim.
-                        Some(_) => match super::arrays::unallocated(Some(t)) {
-                            Some(a) => Var::Array(a),
-                            None => Var::Array(super::value::VArray {
-                                dims: 0,
-                                ..super::value::VArray::row(Rc::new(crate::eval::Array::filled(0, 0, Value::Blank)), 0)
-                            }),
-                        },
+                        Some(_) => Var::Array(
+                            super::arrays::unallocated(Some(t)).unwrap_or_else(super::arrays::without_bounds),
+                        ),
                         None => self.default_var(Some(t))?,
                     });
                 }
@@ -2165,6 +2192,10 @@ impl Interp<'_, '_> {
                 _ if d.new.is_some() => Var::Obj(Obj::Value(Value::Blank)),
                 Some(_) if !redim => match super::arrays::unallocated(d.ty.as_ref()) {
                     Some(array) => Var::Array(array),
+                    // `Dim a() As Variant`: an array too, without bounds until ReDim, which
+                    // Erase leaves as it is ("Erase statement": a dynamic array's storage is
+                    // freed) and IsArray finds True.
+                    None if matches!(d.ty, None | Some(Ty::Variant)) => Var::Array(super::arrays::without_bounds()),
                     None => self.default_var(d.ty.as_ref())?,
                 },
                 _ => self.default_var(d.ty.as_ref())?,
@@ -2342,43 +2373,15 @@ impl Interp<'_, '_> {
             Target::Var(name) if !set && self.append_in_place(name, value, span)? => Ok(()),
             // `Mid(s, i, 1) = x` replaces characters in place (`append.rs`).
             Target::Var(name) if !set && self.mid_in_place(name, value)? => Ok(()),
-            Target::Var(name) if !set && self.object_cells(name).is_some() => self.let_into_cells(name, value, span),
-            Target::Var(name) => {
-                let var = super::regexp::let_value(self.var_of(value, set)?, set);
-                // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an
-                // Integer for `x = 5`, a Date for a Date); known once evaluated (an item's, a
-                // Variant Function's).
-                let held = match &var {
-                    Var::Value(v @ Value::Number(_)) if !set => self.value_type(value, v),
-                    _ => Declared::Variant,
-                };
-                let date = held == Declared::Date;
-                if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
-                    return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
-                }
-                // `Set x = Nothing`: an object variable without an object (TypeName "Nothing",
-                // IsObject True), where an unassigned Variant is Empty.
-                let var = match var {
-                    Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
-                    // A String given a Date holds its text (5.5.1.2.4), not its day count.
-                    Var::Value(Value::Number(n))
-                        if date
-                            && self.with_slot(name, |s| matches!(s.ty, Some(Ty::String | Ty::FixedString(_))))
-                                == Some(true) =>
-                    {
-                        Var::Value(Value::text(super::value::date_text(n)))
-                    }
-                    other => other,
-                };
-                // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
-                if let Var::Value(v @ Value::Number(_)) = &var {
-                    if self.assign_long_long(name, value, v, held) {
-                        return Ok(());
-                    }
-                }
-                self.set_var_holding(name, var, held, span)
-            }
+            Target::Var(name) if !set && self.declared_object(name) => match self.object_let(name) {
+                Some(through) => self.let_through_object(name, through, value, span),
+                None => self.let_var(name, value, set, span),
+            },
+            Target::Var(name) => self.let_var(name, value, set, span),
             Target::Element(name, index) => {
+                if self.peek(name, |held| matches!(held, Var::Obj(Obj::Instance(_)))) == Some(true) {
+                    return self.let_default_item(name, index, value, span);
+                }
                 if let Some(h) = self.store_named(name) {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
@@ -2417,26 +2420,89 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// The cells `name` holds when it is declared as an object (`As Range`, `As Object`) and
-    /// holds a Range. Only then does a Let go through it: a library's enum (`As VbCompareMethod`)
-    /// is declared here as an object type is, and a Let to it must keep replacing its value.
-    fn object_cells(&self, name: &str) -> Option<Obj> {
-        if self.with_slot(name, |s| matches!(s.ty, Some(Ty::Object))) != Some(true) {
-            return None;
-        }
-        match self.lookup(name) {
-            Some(Var::Obj(cells @ (Obj::Range(..) | Obj::Lines(..)))) => Some(cells),
+    /// Whether `name` is declared as an object (`As Range`, `As Object`, a class …).
+    fn declared_object(&self, name: &str) -> bool {
+        self.with_slot(name, |s| matches!(s.ty, Some(Ty::Object))) == Some(true)
+    }
+
+    /// What a Let to an object variable goes through ([MS-VBAL] 5.4.3.8, Let statement: the
+    /// object's default member takes the value): the cells it holds, its class instance, or
+    /// its Nothing, which has no member to take a value. `None` for the other objects, which
+    /// the value replaces.
+    fn object_let(&self, name: &str) -> Option<ObjectLet> {
+        match self.lookup(name)? {
+            Var::Obj(cells @ (Obj::Range(..) | Obj::Lines(..))) => Some(ObjectLet::Cells(cells)),
+            Var::Obj(Obj::Instance(object)) => Some(ObjectLet::Instance(object)),
+            Var::Obj(Obj::Value(Value::Blank)) => Some(ObjectLet::Nothing),
             _ => None,
         }
     }
 
-    /// `r = v` without Set, `r` declared as an object holding a Range: [MS-VBAL] 5.4.3.8 (Let
-    /// statement) lets the object's default member take the value, so `Dim r As Range: Set r =
-    /// Range("A1"): r = 5` writes 5 into A1 and `r` still holds A1.
-    fn let_into_cells(&self, name: &str, value: &Expr, span: Span) -> Run<()> {
-        let cells = self.object_cells(name).expect("a variable holding cells");
-        let v = self.sheet_value(value)?;
-        self.write_default(cells, &v, span)
+    /// `r = v` without Set, `r` declared as an object: `Dim r As Range: Set r = Range("A1"): r
+    /// = 5` writes 5 into A1 and `r` still holds A1; an object of a class gives the value to
+    /// its default member; Nothing is VBA's error 91 ("Object variable or With block variable
+    /// not set").
+    fn let_through_object(&self, name: &str, through: ObjectLet, value: &Expr, span: Span) -> Run<()> {
+        match through {
+            ObjectLet::Cells(cells) => {
+                let v = self.sheet_value(value)?;
+                self.write_default(cells, &v, span)
+            }
+            ObjectLet::Instance(object) => self.set_default_member(&mut self.ctx(), &object, &[], value, span),
+            ObjectLet::Nothing => {
+                let why = format!(
+                    "{name} holds Nothing: no default member takes the value (Set {name} = … gives it an object)"
+                );
+                let mut fault = self.vba_fault(91, &why);
+                fault.span = Some(span);
+                Err(fault)
+            }
+        }
+    }
+
+    /// `bag(i) = value`, `Set bag(i) = obj` of a variable holding an object of a class: its
+    /// default member, given the indexes as arguments.
+    fn let_default_item(&self, name: &str, index: &[Expr], value: &Expr, span: Span) -> Run<()> {
+        let Some(Var::Obj(Obj::Instance(object))) = self.lookup(name) else { unreachable!("checked by peek") };
+        let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+        self.set_default_member(&mut self.ctx(), &object, &args, value, span)
+    }
+
+    /// `x = value`, `Set x = value` of a variable the value replaces.
+    fn let_var(&self, name: &Rc<str>, value: &Expr, set: bool, span: Span) -> Run<()> {
+        let var = super::regexp::let_value(self.var_of(value, set)?, set);
+        // A Variant keeps the type of the number it is given ([MS-VBAL] 2.1.1.1: an
+        // Integer for `x = 5`, a Date for a Date); known once evaluated (an item's, a
+        // Variant Function's).
+        let held = match &var {
+            Var::Value(v @ Value::Number(_)) if !set => self.value_type(value, v),
+            _ => Declared::Variant,
+        };
+        let date = held == Declared::Date;
+        if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
+            return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
+        }
+        // `Set x = Nothing`: an object variable without an object (TypeName "Nothing",
+        // IsObject True), where an unassigned Variant is Empty.
+        let var = match var {
+            Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
+            // A String given a Date holds its text (5.5.1.2.4), not its day count.
+            Var::Value(Value::Number(n))
+                if date
+                    && self.with_slot(name, |s| matches!(s.ty, Some(Ty::String | Ty::FixedString(_))))
+                        == Some(true) =>
+            {
+                Var::Value(Value::text(super::value::date_text(n)))
+            }
+            other => other,
+        };
+        // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
+        if let Var::Value(v @ Value::Number(_)) = &var {
+            if self.assign_long_long(name, value, v, held) {
+                return Ok(());
+            }
+        }
+        self.set_var_holding(name, var, held, span)
     }
 
     fn print(&self, items: &[PrintItem]) -> Run<()> {
@@ -2718,7 +2784,7 @@ impl Interp<'_, '_> {
         // the Integer 1 of `Array(1, 2.5)`; [MS-VBAL] 5.4.2.4: it is let-assigned each
         // element, which keeps its Variant subtype).
         let mut held: Vec<Declared> = Vec::new();
-        let items: Vec<Var> = match self.var_of(group, true)? {
+        let items: Vec<Var> = match self.enumerated(self.var_of(group, true)?, group)? {
             Var::Obj(Obj::Range(sheet, rect)) => {
                 let rect = self.ctx().clip_to_used(sheet, rect);
                 let mut cells = Vec::new();

@@ -144,8 +144,7 @@ impl Interp<'_, '_> {
             if slot.fixed || !matches!(slot.var(), Var::Array(a) if a.dims > 0) {
                 return None;
             }
-            let empty = super::arrays::unallocated(slot.ty.as_ref())
-                .unwrap_or_else(|| VArray { dims: 0, ..VArray::row(Rc::new(Array::filled(0, 0, Value::Blank)), 0) });
+            let empty = super::arrays::unallocated(slot.ty.as_ref()).unwrap_or_else(super::arrays::without_bounds);
             Some(slot.replace(Var::Array(empty)))
         });
         match freed.flatten() {

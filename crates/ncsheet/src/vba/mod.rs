@@ -762,7 +762,14 @@ fn join_project(
         return (None, Vec::new());
     }
     let mut out = source.to_string();
-    let mut parts = vec![ast::Part { name: own_name.into(), first_line: 1, class: false, predeclared: false }];
+    let own = ast::Part {
+        name: own_name.into(),
+        first_line: 1,
+        class: false,
+        predeclared: false,
+        special: ast::SpecialMembers::default(),
+    };
+    let mut parts = vec![own];
     let classes = classes.iter().filter(|(_, source)| parser::in_grammar(source));
     let modules = others.iter().map(|m| (m, false)).chain(classes.map(|c| (c, true)));
     for ((name, other), class) in modules {
@@ -771,7 +778,8 @@ fn join_project(
         }
         let first_line = out.matches('\n').count() as u32 + 1;
         let predeclared = class && classes::has_predeclared_id(other);
-        parts.push(ast::Part { name: name.as_str().into(), first_line, class, predeclared });
+        let special = if class { classes::special_members(other) } else { ast::SpecialMembers::default() };
+        parts.push(ast::Part { name: name.as_str().into(), first_line, class, predeclared, special });
         for line in other.lines() {
             if !left_out_of_joined_module(line) {
                 out.push_str(line);

@@ -134,6 +134,10 @@ impl Interp<'_, '_> {
                 let index = self.regex_index(args, link.span)?;
                 return self.regex_item(r, &index, link.span).map(super::collections::var_obj);
             }
+            if let (Var::Obj(Obj::Instance(object)), Some(args)) = (&var, &link.args) {
+                // `bag(2).Name`, `WScript.Arguments(0)`: the object's default member.
+                return self.default_member(ctx, object, args, link.span);
+            }
             if let (Var::Obj(Obj::Range(sheet, rect)), Some(_)) = (&var, &link.args) {
                 // `r(1).Value = x`: a Range's default member is Item, a cell counted from its top-left.
                 return self.cells(ctx, *sheet, *rect, link);

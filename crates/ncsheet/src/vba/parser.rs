@@ -1735,16 +1735,17 @@ fn comparison(rule: Rule) -> Option<BinOp> {
 }
 
 impl Build<'_> {
-    /// The class `New` names: a Collection, a Dictionary, a class module of the project, or
-    /// VBScript's RegExp (after the project's classes: a class module named RegExp is the
-    /// project's own, [MS-VBAL] 5.6.10).
+    /// The class `New` names: a class module of the project first, then a Collection, a
+    /// Dictionary or VBScript's RegExp. A project's own class named `Dictionary` or
+    /// `Collection` is the one `New Dictionary` makes ([MS-VBAL] 5.6.10: a simple name binds
+    /// in the enclosing project before referenced libraries); `New Scripting.Dictionary`,
+    /// qualified by its library, is still the library's.
     fn class_named(&self, name: &str) -> Option<Made> {
-        new_class(name)
-            .map(Made::Store)
-            .or_else(|| {
-                let mut classes = self.parts.iter().filter(|p| p.class);
-                classes.position(|p| p.name.eq_ignore_ascii_case(name)).map(Made::Object)
-            })
+        let mut classes = self.parts.iter().filter(|p| p.class);
+        classes
+            .position(|p| p.name.eq_ignore_ascii_case(name))
+            .map(Made::Object)
+            .or_else(|| new_class(name).map(Made::Store))
             .or_else(|| super::regexp::new_class(name))
     }
 
