@@ -104,3 +104,21 @@ fn reading_a_look_ncsheet_does_not_keep_is_refused_under_on_error() {
     );
     assert!(m.contains("ActiveWindow") && m.contains("no value to read"), "{m}");
 }
+
+#[test]
+fn a_member_excels_sheets_collection_lacks_is_error_438_which_a_probe_traps() {
+    // A macro that asks any container whether it holds a key tries `.Exists` under
+    // On Error Resume Next. Excel's Sheets collection has no Exists ("Sheets Members
+    // (Excel)"), so Excel raises "Object doesn't support this property or method (Error 438)",
+    // which the handler traps; nothing of the workbook was skipped.
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim c As Object, found As Boolean\n    Set c = Worksheets\n    On Error Resume Next\n    \
+         found = c.Exists(\"Sheet1\")\n    Debug.Print Err.Number & \" \" & found\n    On Error GoTo 0\n    \
+         Debug.Print \"n=\" & c.Count",
+    );
+    assert_eq!(printed, ["438 False", "n=1"]);
+    // A member Excel's collection has and ncsheet does not model still stops the run.
+    let e = stop_of("    On Error Resume Next\n    Worksheets.FillAcrossSheets Range(\"A1\")\n    Debug.Print 1");
+    assert!(e.message.contains("Worksheets.FillAcrossSheets is not modelled by ncsheet"), "{}", e.message);
+}

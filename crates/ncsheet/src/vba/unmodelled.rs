@@ -109,6 +109,22 @@ const HARMLESS: &[(Owner, &str, Harmless)] = &[
     (Owner::Interior, "tintandshade", Harmless::Setting(None)),
 ];
 
+/// Every member of Excel's Sheets and Worksheets collections ("Sheets Members (Excel)",
+/// "Worksheets Members (Excel)", with Excel 2013's Add2 and the hidden `_Default` and
+/// `_PrintOut`). A name not here is no member of theirs at all: VBA's error 438, which a macro
+/// probing an object for a method (`On Error Resume Next: found = x.Exists(k)`) traps.
+const SHEETS_MEMBERS: &str = "_default _printout add add2 application copy count creator delete \
+    fillacrosssheets hpagebreaks item move parent printout printpreview select visible vpagebreaks";
+
+/// Whether Excel's class of `obj` has `member` (lower case); `None` for the classes whose
+/// whole list of members is not kept here.
+fn excel_has(obj: &Obj, member: &str) -> Option<bool> {
+    match obj {
+        Obj::Sheets => Some(SHEETS_MEMBERS.split_whitespace().any(|m| m == member)),
+        _ => None,
+    }
+}
+
 /// The names a macro reaches the window by without an object before them.
 pub(super) fn window_root(name: &str) -> Option<Obj> {
     match name {
@@ -194,6 +210,7 @@ impl Interp<'_, '_> {
                 Ok(Obj::Unkept(format!("{}.{}", class_name(obj), link.name).into()))
             }
             Some(Harmless::Object(what)) => Ok(Obj::Unkept(what.into())),
+            None if excel_has(obj, &name) == Some(false) => Err(self.not_a_member(obj, link)),
             None => Err(self.not_modelled(obj, link)),
         }
     }
@@ -220,6 +237,16 @@ impl Interp<'_, '_> {
             ),
         );
         fault.code = NOT_MODELLED;
+        fault
+    }
+
+    /// `obj.Member` where Excel's class has no such member: VBA's error 438, trappable as in
+    /// Excel, since skipping it loses no effect Excel would have had.
+    fn not_a_member(&self, obj: &Obj, link: &Link) -> Fault {
+        let description = crate::eval::functions::vba::errors::description(438);
+        let mut fault =
+            self.fault_at(link.span, format!("{}.{}: {description} (run-time error 438)", class_name(obj), link.name));
+        fault.code = 438;
         fault
     }
 
