@@ -258,3 +258,33 @@ fn library_objects_not_made_are_refused_by_name() {
     assert!(names.iter().all(|n| error.message.contains(n)), "{error}");
     assert!(!error.message.contains("run programs"), "{error}");
 }
+
+// [MS-VBAL] 5.2.3.1.3: a declared type may be a library's qualified name, so `As VBA.Collection`
+// is VBA's Collection class (an object variable: `Is Nothing`, `Set … = New VBA.Collection`)
+// and `As Excel.XlDirection` Excel's enum (a Long, 0 to start); a class module of the project
+// is an object whatever its name begins with (`XlsRow` is no `Xl…` enum of Excel's).
+#[test]
+fn qualified_and_class_type_names_declare_what_they_name() {
+    let main =
+        "Function Grow(c As VBA.Collection) As Long\r\n    If c Is Nothing Then Set c = New VBA.Collection\r\n    \
+        c.Add 1\r\n    Grow = c.Count\r\nEnd Function\r\n\
+        Sub Main()\r\n    Dim c As Collection, r As XlsRow, d As Excel.XlDirection\r\n    \
+        Debug.Print CStr(Grow(c)) & CStr(Grow(c))\r\n    Set r = New XlsRow\r\n    r.N = 7\r\n    \
+        Debug.Print CStr(r.N) & TypeName(r) & CStr(d)\r\nEnd Sub\r\n";
+    let class = "Attribute VB_Name = \"XlsRow\"\r\nPublic N As Long\r\n";
+    assert_eq!(printed(main, &[("XlsRow", class)]), ["12", "7XlsRow0"]);
+}
+
+// "Keys method" and "Items method" (Scripting.Dictionary): each "returns an array" of the keys
+// (items), counted from 0. Neither takes an argument, so `d.Keys(i)` indexes the array it returns
+// ([MS-VBAL] 5.6.13.1, an argument list after a function without parameters), the loop `For i = 0
+// To d.Count - 1: d.Keys(i)` common in real modules; an index outside it is run-time error 9
+// ("Subscript out of range").
+#[test]
+fn dictionary_keys_and_items_index_the_array_they_return() {
+    let main = "Sub Main()\r\n    Dim d As New Scripting.Dictionary, i As Long\r\n    d.Add \"a\", 10: d.Add \"b\", 20\r\n    \
+        For i = 0 To d.Count - 1\r\n        Debug.Print d.Keys(i) & \"=\" & d.Items(i)\r\n    Next\r\n    \
+        Debug.Print UBound(d.Keys) & d.Keys()(1)\r\n    On Error Resume Next\r\n    Debug.Print d.Keys(2)\r\n    \
+        Debug.Print CStr(Err.Number)\r\nEnd Sub\r\n";
+    assert_eq!(printed(main, &[]), ["a=10", "b=20", "1b", "9"]);
+}

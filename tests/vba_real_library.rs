@@ -104,3 +104,15 @@ fn line_numbers_before_the_keywords_that_close_blocks() {
                 230   Debug.Print s; \" \"; Evens()";
     assert_eq!(printed_after(module, body), ["one two three ......++!| 246"]);
 }
+
+// "MsgBox function": with nobody to press a button, a macro's MsgBox is answered with its
+// default button, as Enter would answer it: vbYesNo's first (vbYes 6), vbYesNo +
+// vbDefaultButton2's second (vbNo 7), vbYesNoCancel + vbDefaultButton3's third (vbCancel 2),
+// vbOKCancel's and vbOKOnly's vbOK 1. Every MsgBox gave vbOK before, a value vbYesNo cannot
+// return, so a macro's `If MsgBox("Continue?", vbYesNo) = vbYes Then` silently did nothing.
+#[test]
+fn msgbox_answers_with_its_default_button() {
+    let body = "    Debug.Print CStr(MsgBox(\"a\", vbYesNo + vbQuestion) = vbYes) & MsgBox(\"b\", vbYesNo + vbDefaultButton2)\n\
+                \x20   Debug.Print CStr(MsgBox(\"c\", vbYesNoCancel + vbDefaultButton3)) & MsgBox(\"d\", vbOKCancel) & MsgBox(\"e\")";
+    assert_eq!(run_main(&mut Workbook::with_sheet(), body), ["True7", "211"]);
+}

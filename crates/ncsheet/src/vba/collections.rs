@@ -495,11 +495,8 @@ impl Interp<'_, '_> {
                 let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 Ok(Obj::Value(Value::Bool(self.find(&h, &key, link.span)?.is_some())))
             }
-            (Class::Dictionary, "keys") => {
-                let keys = h.each().iter().map(var_value).collect();
-                Ok(Obj::Value(zero_based(keys)))
-            }
-            (Class::Dictionary, "items") => Ok(Obj::Value(zero_based(h.items().iter().map(var_value).collect()))),
+            (Class::Dictionary, "keys") => self.listed_or_one(h.each().iter().map(var_value).collect(), link),
+            (Class::Dictionary, "items") => self.listed_or_one(h.items().iter().map(var_value).collect(), link),
             (Class::Dictionary, "removeall") => {
                 let removed = h.0.borrow_mut().take_items();
                 self.release_all(removed)?;
@@ -509,6 +506,22 @@ impl Interp<'_, '_> {
                 Ok(Obj::Value(Value::Number(if h.0.borrow().text_compare { 1.0 } else { 0.0 })))
             }
             _ => Err(self.no_member(&Obj::Store(h), link)),
+        }
+    }
+
+    /// `d.Keys` (or `d.Items`) is the array of them counted from 0; `d.Keys(i)` is its item i:
+    /// the method takes no argument, so VBA reads the parentheses as an index into the array it
+    /// returns (Microsoft's "Keys method": "returns an array"; `For i = 0 To d.Count - 1:
+    /// d.Keys(i)`), an index outside it run-time error 9.
+    fn listed_or_one(&self, listed: Vec<Value>, link: &Link) -> Run<Obj> {
+        let args = self.member_args(link, &["Index"])?;
+        let Some(index) = args[0] else { return Ok(Obj::Value(zero_based(listed))) };
+        let v = self.eval(index)?;
+        let n = self.number_of(&v, &format!("the index of {}", link.name)).map_err(|m| self.fault_at(link.span, m))?;
+        let i = n.round_ties_even();
+        match listed.get(i as usize).filter(|_| i >= 0.0) {
+            Some(one) => Ok(Obj::Value(one.clone())),
+            None => Err(self.vba_error(link.span, OUT_OF_RANGE, &format!("{}({i})", link.name))),
         }
     }
 

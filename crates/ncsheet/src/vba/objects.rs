@@ -832,8 +832,11 @@ impl Interp<'_, '_> {
         };
         self.within_output_limit(prompt.len())?;
         self.emit(super::Printed::Message(&prompt));
-        // vbOK: nobody is there to press another button.
-        Ok(Obj::Value(Value::Number(1.0)))
+        let buttons = match values.get(1) {
+            None | Some(Value::Blank) => 0.0,
+            Some(v) => self.number_of(v, "MsgBox's buttons").map_err(|m| self.fault_at(link.span, m))?,
+        };
+        Ok(Obj::Value(Value::Number(default_button_answer(buttons))))
     }
 
     /// `Evaluate("SUM(A1:A3)")`: formula text evaluated as in a cell of `sheet`.
@@ -1077,4 +1080,23 @@ fn without_text_mark(input: String) -> String {
         Some(text) => text.to_string(),
         None => input,
     }
+}
+
+/// What MsgBox returns when nobody is there to press a button: its default button's value, as
+/// pressing Enter would ("MsgBox function": buttons 0 vbOKOnly, 1 vbOKCancel, 2
+/// vbAbortRetryIgnore, 3 vbYesNoCancel, 4 vbYesNo, 5 vbRetryCancel; vbDefaultButton1 to 4 are
+/// 0, 256, 512 and 768; the return values vbOK 1, vbCancel 2, vbAbort 3, vbRetry 4, vbIgnore 5,
+/// vbYes 6, vbNo 7). A default past the set's last button is its first, as Windows does.
+fn default_button_answer(buttons: f64) -> f64 {
+    let code = buttons as i64;
+    let set: &[f64] = match code & 7 {
+        1 => &[1.0, 2.0],
+        2 => &[3.0, 4.0, 5.0],
+        3 => &[6.0, 7.0, 2.0],
+        4 => &[6.0, 7.0],
+        5 => &[4.0, 2.0],
+        _ => &[1.0],
+    };
+    let default = ((code >> 8) & 3) as usize;
+    set.get(default).copied().unwrap_or(set[0])
 }

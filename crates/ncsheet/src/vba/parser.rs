@@ -1767,6 +1767,9 @@ impl Build<'_> {
             Some(&i) => Ty::Record(i),
             // An Enum's variables are Longs ([MS-VBAL] 5.2.3.4).
             None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(&name)) => Ty::Whole(3),
+            // A class module of the project is an object whatever its name looks like
+            // (`XlsWriter` is no Excel enum).
+            None if self.parts.iter().any(|p| p.class && p.name.eq_ignore_ascii_case(&name)) => Ty::Object,
             None => ty_named(&name.to_ascii_lowercase()),
         };
         match (ty, self.fixed_length(as_clause)) {
@@ -1899,6 +1902,9 @@ impl Build<'_> {
 /// The type a declared type's name (lower case) stands for; an unknown name is an object
 /// (a class module's, or one of Excel's: Range, Worksheet, Collection …).
 pub(super) fn ty_named(name: &str) -> Ty {
+    // A library's qualified name is its member's type: `VBA.Collection` an object,
+    // `Excel.XlDirection` an enum's Long, `VBA.String` a String.
+    let name = name.rsplit('.').next().unwrap_or(name);
     match name {
         "integer" => Ty::Whole(2),
         "long" => Ty::Whole(3),
