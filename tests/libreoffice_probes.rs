@@ -166,6 +166,8 @@ const EXCEL_NOT_LIBREOFFICE: &[(&str, &str, Excel, &str)] = &[
     ("engineering", "Design!A81", Text("1.23456789012346E+16"), "E+16, not E+016"),
     ("engineering", "Design!A83", Text("1E-20"), "E-20, not E-020"),
     ("engineering", "Design!A36", Err("#DIV/0!"), "ATAN2(0,0) is #DIV/0!"),
+    // Excel keeps no negative zero, and its ATAN2 is "between -pi and pi, excluding -pi".
+    ("engineering", "Design!A34", Num(180.0), "DEGREES(ATAN2(-1,-0)): -0 is 0, so pi, not -pi"),
     // Excel zeroes a cancelling sum or difference only as a formula's last operation
     // (LibreOffice at every one): inside SQRT the residue stays.
     ("engineering", "Design!A39", Num(7.450580596923828e-9), "SQRT(0.1+0.2-0.3): the residue 5.55E-17"),

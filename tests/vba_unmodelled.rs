@@ -122,3 +122,16 @@ fn a_member_excels_sheets_collection_lacks_is_error_438_which_a_probe_traps() {
     let e = stop_of("    On Error Resume Next\n    Worksheets.FillAcrossSheets Range(\"A1\")\n    Debug.Print 1");
     assert!(e.message.contains("Worksheets.FillAcrossSheets is not modelled by ncsheet"), "{}", e.message);
 }
+
+#[test]
+fn a_member_of_a_value_is_error_424_object_required() {
+    // "Object required (Error 424)": `c.Exists` where c holds the number 5 (a Variant given a
+    // value where a container was expected). Macros that probe what they were given trap it by
+    // number (`ElseIf ErrX <> 424 And ErrX <> 438 Then`).
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim c, b As Boolean\n    c = 5\n    On Error Resume Next\n    b = c.Exists(\"A\")\n    \
+         Debug.Print \"e=\" & Err.Number",
+    );
+    assert_eq!(printed, ["e=424"]);
+}

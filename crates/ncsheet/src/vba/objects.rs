@@ -325,9 +325,16 @@ impl Interp<'_, '_> {
             }
             // A variable never set, or set to Nothing.
             Obj::Value(Value::Blank) => Err(self.not_set(link)),
+            // "Object required (Error 424)": a member of a value; a macro probing what it was
+            // given for a method traps the number.
             Obj::Value(v) => {
                 let shown = print_text(&v);
-                Err(self.fault_at(link.span, format!("{}: {shown} is a value, not an object", link.name)))
+                let description = crate::eval::functions::vba::errors::description(424);
+                let what =
+                    format!("{}: {shown} is a value, not an object: {description} (run-time error 424)", link.name);
+                let mut fault = self.fault_at(link.span, what);
+                fault.code = 424;
+                Err(fault)
             }
         }
     }

@@ -277,10 +277,11 @@ fn time(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if seconds < 0 {
             return Err(XlError::Num);
         }
-        // The whole days dropped in whole seconds, exactly ("TIME function": TIME(27,0,0) is
-        // TIME(3,0,0)); `days - days.floor()` of the quotient lost digits (TIME(32767,0,0)
-        // was 0.29166666666674 where 7/24 is 0.291666666666667).
-        Ok(Value::Number((seconds % 86_400) as f64 / 86_400.0))
+        // The whole days dropped from the quotient in doubles, as Excel does: its stored value
+        // of TIME(23,120,0) is 4.1666666666666741E-2 (IronCalc's corpus, DATE_TIME.xlsx), not
+        // the 1/24 that dropping whole seconds first would give.
+        let days = seconds as f64 / 86_400.0;
+        Ok(Value::Number(days - days.floor()))
     })
 }
 
