@@ -123,11 +123,18 @@ pub(super) fn class_defs(parts: &[Part]) -> Vec<ClassDef> {
 /// = True`, which the VBA editor keeps in the module's stored source and in an exported .cls
 /// (a UserForm's is always True; a class's is False unless the file was edited).
 pub(super) fn has_predeclared_id(source: &str) -> bool {
-    source.lines().any(|line| {
-        let words = line.trim().to_ascii_lowercase();
-        let Some(rest) = words.strip_prefix("attribute ") else { return false };
-        let Some((name, value)) = rest.split_once('=') else { return false };
-        name.trim() == "vb_predeclaredid" && matches!(value.trim(), "true" | "-1")
+    attributes(source).any(|(name, value)| {
+        name.eq_ignore_ascii_case("vb_predeclaredid") && (value.eq_ignore_ascii_case("true") || value == "-1")
+    })
+}
+
+/// The `Attribute <name> = <value>` lines of a module's source, each name and value trimmed.
+fn attributes(source: &str) -> impl Iterator<Item = (&str, &str)> {
+    source.lines().filter_map(|line| {
+        let line = line.trim();
+        let keyword = line.get(..10).filter(|w| w.eq_ignore_ascii_case("attribute "))?;
+        let (name, value) = line[keyword.len()..].split_once('=')?;
+        Some((name.trim(), value.trim()))
     })
 }
 
@@ -137,7 +144,7 @@ pub(super) fn has_predeclared_id(source: &str) -> bool {
 /// numbers are COM's dispatch ids, which VBA's `obj(…)` and `For Each` use).
 pub(super) fn special_members(source: &str) -> SpecialMembers {
     let mut special = SpecialMembers::default();
-    for (member, id) in source.lines().filter_map(user_mem_id) {
+    for (member, id) in attributes(source).filter_map(user_mem_id) {
         match id {
             0 => special.default = Some(member.into()),
             -4 => special.enumerator = Some(member.into()),
@@ -148,14 +155,10 @@ pub(super) fn special_members(source: &str) -> SpecialMembers {
 }
 
 /// `Attribute Item.VB_UserMemId = 0`: the member and its id.
-fn user_mem_id(line: &str) -> Option<(&str, i64)> {
-    let line = line.trim();
-    let rest = line.get(..10).filter(|w| w.eq_ignore_ascii_case("attribute "))?;
-    let rest = line[rest.len()..].trim_start();
-    let (name, value) = rest.split_once('=')?;
-    let (member, attribute) = name.trim().split_once('.')?;
-    let id = value.trim().parse().ok()?;
-    attribute.eq_ignore_ascii_case("vb_usermemid").then_some((member.trim(), id))
+fn user_mem_id<'a>((name, value): (&'a str, &str)) -> Option<(&'a str, i64)> {
+    let (member, attribute) = name.split_once('.')?;
+    let id = value.parse().ok()?;
+    attribute.trim().eq_ignore_ascii_case("vb_usermemid").then_some((member.trim(), id))
 }
 
 /// The default instances of the project's predeclared classes (by name and class): each a
