@@ -1108,10 +1108,7 @@ impl<'s> Build<'s> {
                 {
                     return Err(self.error_at(&pair, format!("{} is a procedure, not a variable", link.name)))
                 }
-                None => {
-                    self.implicit(start(&pair), &link.name)?;
-                    return Ok(Target::Var(link.name.clone()));
-                }
+                None => return Ok(Target::Var(self.implicit_named(start(&pair), &link.name)?)),
                 Some(args) if self.is_var(&link.name) => {
                     let index = args.iter().map(|a| a.value.clone()).collect();
                     return Ok(Target::Element(link.name.clone(), index));
@@ -1856,16 +1853,35 @@ impl Build<'_> {
         let whole = |kind: ExprKind, at: &Pair<Rule>| {
             Expr::new(kind, ByteSpan { start: start(at) as u32, end: at.as_span().end() as u32 })
         };
-        let mut next = whole(ExprKind::Number(0.0), pair);
+        // A member without a value is the last one given a value plus how many came since:
+        // that number itself, or that member by name plus the count. (Each member as the one
+        // before plus 1 made the k-th member's expression k deep: 100,000 members took
+        // 5 billion nodes and aborted at the memory cap.)
+        let mut given: Result<f64, Rc<str>> = Ok(0.0);
+        let mut since = 0.0;
         for member in all(&kids(pair), Rule::enum_member) {
             let k = kids(&member);
             let name = enum_member_name(&k);
             let value = match find(&k, Rule::vexpr) {
-                Some(e) => self.expr(e)?,
-                None => next,
+                Some(e) => {
+                    let value = self.expr(e)?;
+                    given = match value.kind {
+                        ExprKind::Number(n) => Ok(n),
+                        _ => Err(name.clone()),
+                    };
+                    since = 0.0;
+                    value
+                }
+                None => match &given {
+                    Ok(n) => whole(ExprKind::Number(n + since), &member),
+                    Err(named) => {
+                        let named = Box::new(whole(ExprKind::Name(named.clone()), &member));
+                        let count = Box::new(whole(ExprKind::Number(since), &member));
+                        whole(ExprKind::Binary(BinOp::Add, named, count), &member)
+                    }
+                },
             };
-            let one = Box::new(whole(ExprKind::Number(1.0), &member));
-            next = whole(ExprKind::Binary(BinOp::Add, Box::new(value.clone()), one), &member);
+            since += 1.0;
             consts.push((name, Some(Ty::Whole(3)), value));
         }
         Ok(Stmt { kind: StmtKind::Const(consts), span: self.span(start(pair)) })

@@ -532,6 +532,33 @@ impl Build<'_> {
         Ok(())
     }
 
+    /// `s$` names the variable `s`: a type character is no part of the name ([MS-VBAL]
+    /// 3.3.5.3, "Type characters"), so `s$` and `s` are one variable. The bare name when it
+    /// is a variable already; `None` for any other name (`Left$` stays the function).
+    pub(super) fn declared_without_mark(&self, name: &str) -> Option<Rc<str>> {
+        name.strip_suffix('$').filter(|bare| self.is_var(bare)).map(Rc::from)
+    }
+
+    /// A variable used without a declaration, as [`Build::implicit`] declares it; `s$` is the
+    /// String variable `s` (its type character gives its type, "Type characters"). The name
+    /// the variable goes by.
+    pub(super) fn implicit_named(&self, pair_offset: usize, name: &Rc<str>) -> Res<Rc<str>> {
+        let Some(bare) = name.strip_suffix('$').filter(|b| !b.is_empty() && !b.ends_with('$')) else {
+            self.implicit(pair_offset, name)?;
+            return Ok(name.clone());
+        };
+        if !self.is_var(bare) {
+            if self.explicit() {
+                // The message Option Explicit gives any undeclared name.
+                self.implicit(pair_offset, bare)?;
+            }
+            self.unambiguous(pair_offset, bare)?;
+            self.declare_implicit_var(pair_offset, bare, super::parser::ty_named("string"));
+            self.declare(bare);
+        }
+        Ok(Rc::from(bare))
+    }
+
     pub(super) fn is_own_function(&self, name: &str) -> bool {
         self.scope.borrow().function.as_deref().is_some_and(|f| f.eq_ignore_ascii_case(name))
     }
@@ -1013,8 +1040,11 @@ impl Build<'_> {
     }
 
     /// A path of one name: a variable, constant, procedure, VBA function, object or sheet function.
-    fn single(&self, pair: &Pair<Rule>, link: Link, statement: bool, end: usize) -> Res<Expr> {
+    fn single(&self, pair: &Pair<Rule>, mut link: Link, statement: bool, end: usize) -> Res<Expr> {
         let at = start(pair);
+        if let Some(bare) = self.declared_without_mark(&link.name) {
+            link.name = bare;
+        }
         let span = ByteSpan { start: at as u32, end: end as u32 };
         let lower = lower_bare(&link.name);
         let is_var = self.is_var(&link.name);
@@ -1081,8 +1111,8 @@ impl Build<'_> {
             if let Some(call) = self.bare_function(pair, &link)? {
                 return Ok(call);
             }
-            self.implicit(at, &link.name)?;
-            return Ok(Expr::new(ExprKind::Name(link.name.clone()), span));
+            let name = self.implicit_named(at, &link.name)?;
+            return Ok(Expr::new(ExprKind::Name(name), span));
         };
         if let Some(proc) = self.proc_index(&link.name).filter(|_| !is_var || self.is_own_function(&link.name)) {
             let args = link.args.expect("arguments");
