@@ -286,10 +286,14 @@ fn one_far_cell_costs_the_cells_that_exist_not_the_address_space() {
 #[test]
 fn csv_fields_and_lines_past_their_limits_are_refused_with_the_line() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("field.csv"), format!("1\n2,\"{}\"\n", "x".repeat(2 << 20))).unwrap();
-    refused(dir.path(), &["eval", "field.csv", "A1"], &["line 2", "1 MiB", "--max-csv-field"]);
-    let (code, out, err) = ncsheet(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "4M"]);
+    // A field past the option's limit, and one within the option but past the 32,767
+    // characters of a cell (Excel's limit, tests/hostile_cells.rs), which no option raises.
+    std::fs::write(dir.path().join("field.csv"), format!("1\n2,\"{}\"\n", "x".repeat(2 << 10))).unwrap();
+    refused(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "1K"], &["line 2", "1 KiB", "--max-csv-field"]);
+    let (code, out, err) = ncsheet(dir.path(), &["eval", "field.csv", "A1", "--max-csv-field", "4K"]);
     assert_eq!((code, out.trim()), (0, "1"), "{err}");
+    std::fs::write(dir.path().join("long.csv"), format!("1\n2,\"{}\"\n", "x".repeat(2 << 20))).unwrap();
+    refused(dir.path(), &["eval", "long.csv", "A1", "--max-csv-field", "4M"], &["line 2", "Sheet1!B2", "32767"]);
     // A 1 GiB line: refused before the reader buffers it (it took 8.4 GB).
     let line = format!("1\n{}\n", "y,".repeat(1 << 29));
     std::fs::write(dir.path().join("line.csv"), line).unwrap();

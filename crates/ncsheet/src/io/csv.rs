@@ -24,11 +24,12 @@ use std::fmt;
 use std::io::{self, Write};
 
 use crate::eval::dates::DateSystem;
+use crate::eval::evaluator::MAX_TEXT;
 use crate::eval::format::number_format::ShownFormats;
 use crate::eval::locale::is_date_code;
 use crate::eval::{Locale, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::workbook::{Input, LooksByCell, Workbook};
+use crate::workbook::{too_long_text, Input, LooksByCell, Workbook, WorkbookError};
 
 use super::limits::ReadLimits;
 use super::{Content, Export};
@@ -326,10 +327,20 @@ fn read_body(text: &str, delimiter: u8, limits: ReadLimits) -> Result<Workbook, 
         }
         for (col, field) in record.iter().enumerate() {
             if !field.is_empty() {
-                // A formula that does not parse stays in its cell as `#NAME?` and is listed
-                // by `Workbook::problems`: one bad cell does not stop the file loading.
+                let pos = Pos::new(start.row, col as u32);
+                let units = if field.len() > MAX_TEXT { field.encode_utf16().count() } else { field.len() };
+                if units > MAX_TEXT {
+                    let message = format!("{SHEET_NAME}!{pos}: {}", too_long_text(Some(units)));
+                    return Err(Malformed { line: start.line, message });
+                }
                 let field = if delimiter == b';' { decimal_point_input(field) } else { field.into() };
-                let _ = wb.set_input_deferred(sheet, Pos::new(start.row, col as u32), &field);
+                match wb.set_input_deferred(sheet, pos, &field) {
+                    // A formula that does not parse stays in its cell as `#NAME?` and is listed
+                    // by `Workbook::problems`: one bad cell does not stop the file loading.
+                    Ok(()) | Err(WorkbookError::Parse { .. }) => {}
+                    // Anything else the cell cannot hold stops the read, naming the cell.
+                    Err(refused) => return Err(Malformed { line: start.line, message: refused.to_string() }),
+                }
             }
         }
     }
@@ -454,7 +465,7 @@ fn record_starts(text: &str, delimiter: u8, limits: ReadLimits) -> Result<Vec<Re
     let mut at_record_start = true;
     let mut at_field_start = true;
     let mut quote_opened: Option<u64> = None;
-    let mut sizes = Sizes { limits, record: 0, field: 0, record_line: 1 };
+    let mut sizes = Sizes { limits, record: 0, field: 0, record_line: 1, row: 0, col: 0 };
     let mut i = 0;
     while i < bytes.len() {
         let b = bytes[i];
@@ -463,12 +474,17 @@ fn record_starts(text: &str, delimiter: u8, limits: ReadLimits) -> Result<Vec<Re
             b'\r' | b'\n' => 1,
             _ => 0,
         };
+        // At every byte, so that a field or line past its limit stops the scan there, not
+        // at its end (a quoted field of 150 MB was read whole first).
+        sizes.check(i)?;
         if quote_opened.is_none() && (terminator_len > 0 || b == delimiter) {
-            sizes.check(i)?;
             sizes.field = i + 1;
+            sizes.col += 1;
             if terminator_len > 0 {
                 sizes.record = i + terminator_len;
                 sizes.record_line = line + 1;
+                sizes.row = row.saturating_add(1);
+                sizes.col = 0;
             }
         }
         if quote_opened.is_some() {
@@ -537,7 +553,16 @@ struct Sizes {
     field: usize,
     /// The line the record began on.
     record_line: u64,
+    /// The record's row and the field's column (0-based), the cell a refusal names.
+    row: u32,
+    col: u32,
 }
+
+/// The most bytes a field may take before its text is surely longer than the 32,767
+/// characters a cell holds: each character takes at most 3 bytes of UTF-8 per UTF-16 unit
+/// (a quote doubled, 2), and the field's own quotes 2 more. A shorter field is measured
+/// exactly when it is stored.
+const CELL_TEXT_BYTES: usize = 3 * crate::eval::evaluator::MAX_TEXT + 2;
 
 impl Sizes {
     /// The field and record ending at byte `end`, against the limits.
@@ -548,6 +573,10 @@ impl Sizes {
             message: format!("a {what} longer than ncsheet's limit of {} ({option} raises it)", bytes(limit)),
         };
         let (field, record) = (end - self.field.min(end), end - self.record.min(end));
+        if field > CELL_TEXT_BYTES {
+            let cell = format!("{SHEET_NAME}!{}", Pos::new(self.row, self.col));
+            return Err(Malformed { line: self.record_line, message: format!("{cell}: {}", too_long_text(None)) });
+        }
         if field as u64 > self.limits.csv_field_bytes {
             return Err(past("field", self.limits.csv_field_bytes, "--max-csv-field"));
         }

@@ -52,6 +52,13 @@ const NO_FORMULA: u32 = u32::MAX;
 /// The most sheets a workbook holds: one for each [`SheetId`].
 pub const MAX_SHEETS: usize = SheetId::MAX as usize + 1;
 
+/// The most cells a workbook holds, every reader's (csv, xlsx, and through it xls, xlsb and
+/// ods) and every edit's and spill's (docs/limits.md). A cell read from an xlsx costs about
+/// 45 bytes, one read from a csv about 150 (its text kept field by field for a save), so a
+/// workbook at the limit loads in 0.4 to 1.3 GiB (2^24 cells from a csv took 2.4 GiB).
+/// Excel's sheet has room for 17 billion cells; its own limit is the machine's memory.
+pub const MAX_CELLS: usize = 1 << 23;
+
 /// One cell: its current value and, for a formula cell, which shared formula it runs.
 struct Cell {
     value: Value,
@@ -115,6 +122,8 @@ pub enum WorkbookError {
     BadName(String),
     /// A sheet more than a workbook can number (its ids are 16-bit).
     TooManySheets,
+    /// A cell more than [`MAX_CELLS`]: the place of the first cell refused.
+    TooManyCells(String),
     /// Deleting the named sheet would leave no visible sheet.
     LastVisibleSheet(String),
     /// A formula (of a cell or a name) that does not parse; `text` is what was typed.
@@ -133,6 +142,7 @@ impl fmt::Display for WorkbookError {
             WorkbookError::BadName(s) => write!(f, "'{s}' cannot be a defined name"),
             WorkbookError::CannotShift(why) => write!(f, "cannot insert or delete cells: {why}"),
             WorkbookError::TooManySheets => write!(f, "a workbook holds at most {} sheets", MAX_SHEETS),
+            WorkbookError::TooManyCells(place) => write!(f, "{place}: {}", too_many_cells()),
             WorkbookError::LastVisibleSheet(s) => {
                 write!(f, "sheet '{s}' is the last visible one, and a workbook must contain at least one visible sheet")
             }
@@ -142,6 +152,24 @@ impl fmt::Display for WorkbookError {
 }
 
 impl std::error::Error for WorkbookError {}
+
+/// What a reader meeting a cell text longer than Excel's 32,767 characters says (Excel's own
+/// files never hold one: "Excel restricts the value of this element to 32767 characters",
+/// [MS-OI29500] 2.1.706 on `<t>`). The file is refused rather than its text cut: cut, a save
+/// would lose the rest. `units` is the text's length in UTF-16 units, as Excel counts; `None`
+/// when the read stopped before the end of the text.
+pub fn too_long_text(units: Option<usize>) -> String {
+    let max = crate::eval::evaluator::MAX_TEXT;
+    let length = units.map_or(String::new(), |n| format!(" of {n} characters"));
+    format!(
+        "a text{length} longer than the {max} characters a cell holds (Excel's limit); the file is refused, not cut"
+    )
+}
+
+/// What a reader, an edit or a spill past [`MAX_CELLS`] is told.
+pub fn too_many_cells() -> String {
+    format!("a workbook holds at most {MAX_CELLS} cells, ncsheet's limit (docs/limits.md)")
+}
 
 #[derive(Default)]
 pub struct Workbook {
@@ -467,6 +495,10 @@ impl Workbook {
     /// references, new notes). A formula that does not parse is refused and the cell left as
     /// it was.
     pub fn set_input(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<Vec<Problem>, Problem> {
+        if self.room_for(sheet, pos).is_err() {
+            let kind = ProblemKind::Parse(too_many_cells());
+            return Err(Problem { sheet, pos, kind, text: text.to_string(), span: None });
+        }
         if is_formula_text(text) {
             let fid = self.shared_formula(text, sheet, pos).map_err(|e| Problem::parse(sheet, pos, text, &e))?;
             let id = self.cleared_cell(sheet, pos);
@@ -517,6 +549,7 @@ impl Workbook {
 
     /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
     pub fn set_input_deferred(&mut self, sheet: SheetId, pos: Pos, text: &str) -> Result<(), WorkbookError> {
+        self.room_for(sheet, pos)?;
         // A formula (what `Input::parse` reads as one) without copying its text.
         if is_formula_text(text) {
             return self.set_formula(sheet, pos, text);
@@ -544,6 +577,29 @@ impl Workbook {
             }
             Input::Formula(f) => self.set_formula(sheet, pos, &f),
         }
+    }
+
+    /// Whether the workbook has room for a cell at `pos`: it has one there already, or it holds
+    /// fewer than [`MAX_CELLS`]. Every path that makes cells in bulk asks first (the readers,
+    /// a macro's writes; [`Workbook::set_input_deferred`] and [`Workbook::set_input`] ask
+    /// themselves); a formula's links may make a few more blank cells past it, never many.
+    pub fn room_for(&self, sheet: SheetId, pos: Pos) -> Result<(), WorkbookError> {
+        self.room_after(sheet, pos, 0)
+    }
+
+    /// [`Workbook::room_for`] when `waiting` more cells are to be made later (a reader's
+    /// copies of a shared formula whose text comes further on).
+    pub fn room_after(&self, sheet: SheetId, pos: Pos, waiting: usize) -> Result<(), WorkbookError> {
+        if self.cells.len() + waiting < MAX_CELLS || self.sheets[sheet as usize].get(pos).is_some() {
+            return Ok(());
+        }
+        Err(WorkbookError::TooManyCells(self.cell_name(sheet, pos)))
+    }
+
+    /// The cells the workbook has made (blank ones a formula links to among them): what
+    /// [`MAX_CELLS`] bounds.
+    pub fn cell_count(&self) -> usize {
+        self.cells.len()
     }
 
     /// Sets a cell to a formula given as a tree (as if typed at `pos`) without recalculating

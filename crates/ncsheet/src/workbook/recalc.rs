@@ -727,6 +727,9 @@ impl Workbook {
         if self.reads_own_spill(id, sheet, rect) {
             return self.refuse_own_spill(id, rect, late);
         }
+        if let Some(made) = self.spill_past_cell_limit(sheet, anchor, a) {
+            return self.refuse_large_spill(id, rect, made, late);
+        }
         self.spill.blocked.remove(&id);
         if let Some(old) = self.spill.areas.get(&id).copied() {
             self.clear_cells_outside(id, old, rect, late);
@@ -835,6 +838,31 @@ impl Workbook {
         self.notes.entry(id).or_default().push(crate::eval::Note { error: XlError::Circ, message });
         self.cycles.push(vec![id]);
         self.store_value(id, Value::Error(XlError::Circ));
+    }
+
+    /// The cells spilling `a` at `anchor` would make, when they would take the workbook past
+    /// [`super::MAX_CELLS`] (`SEQUENCE(1048576,16)` in a few cells: each spill is within the
+    /// array limit, all of them together are not). The tail of one value makes no cells.
+    fn spill_past_cell_limit(&self, sheet: crate::formula::ast::SheetId, anchor: Pos, a: &Array) -> Option<usize> {
+        let stored = a.rows * a.cols;
+        if self.cells.len() + stored <= super::MAX_CELLS {
+            return None;
+        }
+        let last = Pos::new(anchor.row + a.rows as u32 - 1, anchor.col + a.cols as u32 - 1);
+        let mut existing = 0;
+        self.sheets[sheet as usize].for_each_in(Rect::new(anchor, last), &mut |_, _| existing += 1);
+        let made = stored - existing;
+        (self.cells.len() + made > super::MAX_CELLS).then_some(made)
+    }
+
+    /// Excel's `#SPILL!` for a spill it has no memory for ("Out of memory", How to correct a
+    /// #SPILL! error): kept as a blocked spill, so that a later recalculation tries again.
+    fn refuse_large_spill(&mut self, id: u32, rect: Rect, made: usize, late: &mut Vec<u32>) {
+        self.release_spill(id, late);
+        self.spill.blocked.insert(id, rect);
+        let message = format!("spilling into {rect} would make {made} more cells: {}", super::too_many_cells());
+        self.notes.entry(id).or_default().push(crate::eval::Note { error: XlError::Spill, message });
+        self.store_value(id, Value::Error(XlError::Spill));
     }
 
     /// Whether any cell of `rect` other than the anchor holds something of its own.

@@ -114,9 +114,10 @@ pub fn load(bytes: &[u8], path: &Path, kind: Kind, limits: ReadLimits) -> Result
     Ok(imported)
 }
 
-/// The most cells (values and formulas) a file of these formats may hold: each is held as a
-/// cell of the book and again as the xlsx text the importer reads.
-pub const MAX_CELLS: usize = 1 << 23;
+/// The most cells (values and formulas) a file of these formats may hold: the workbook's own
+/// limit, met here before each is held as a cell of the book and again as the xlsx text the
+/// importer reads.
+pub use crate::workbook::MAX_CELLS;
 
 /// The most bytes of text (values and formulas) the cells of one file may hold together: a
 /// string the file shares among cells is written out again for each.

@@ -20,12 +20,13 @@ use std::rc::Rc;
 
 use calamine::{Reader, Style, Xlsx};
 
+use crate::eval::evaluator::MAX_TEXT;
 use crate::eval::format::cell_style::{self, CellStyle};
 use crate::eval::{Env, RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS};
 use crate::formula::ast::SheetId;
 use crate::formula::parse::ParseError;
-use crate::workbook::{Hyperlink, Workbook, WorkbookError};
+use crate::workbook::{too_long_text, Hyperlink, Workbook, WorkbookError};
 
 use super::external::{self, ExternalBook};
 use super::pivot;
@@ -177,7 +178,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
         let mut sheet_import = SheetImport::new(sheet, &entry.part, &mut legacy_ranges, &book);
         let part = package.entry(&entry.part).map_err(fail)?;
         let scan = sheet_xml::read_sheet_ahead(part, lookups, &mut grid_slots, &mut |cell| {
-            sheet_import.cell(&mut imported, &strings, cell);
+            sheet_import.cell(&mut imported, &strings, cell)
         })
         .map_err(|e| stream_error(file, &entry.part, e))?;
         sheet_import.finish(&mut imported);
@@ -712,9 +713,20 @@ impl<'a> SheetImport<'a> {
         }
     }
 
-    fn cell(&mut self, imported: &mut Imported, strings: &[Rc<str>], cell: CellXml) {
+    /// Stores one cell; refuses it past the workbook's cell limit (`workbook::MAX_CELLS`),
+    /// which stops the read naming the part and the cell.
+    fn cell(&mut self, imported: &mut Imported, strings: &[Rc<str>], cell: CellXml) -> Result<(), ScanError> {
         let CellXml { pos, value, formula } = cell;
+        let full = |e: WorkbookError| (ErrorKind::TooLarge, e.to_string());
+        imported.workbook.room_after(self.sheet, pos, self.waiting.len()).map_err(full)?;
         let value = value.map(|v| v.into_value(strings));
+        if let Some(Value::Text(text)) = &value {
+            let units = if text.len() > MAX_TEXT { text.encode_utf16().count() } else { 0 };
+            if units > MAX_TEXT {
+                let cell = imported.workbook.cell_name(self.sheet, pos);
+                return Err((ErrorKind::TooLarge, format!("cell {cell}: {}", too_long_text(Some(units)))));
+            }
+        }
         match formula {
             None => self.constant(imported, pos, value),
             Some(FormulaXml::Plain(text)) => self.formula(imported, pos, text, value, true),
@@ -746,6 +758,7 @@ impl<'a> SheetImport<'a> {
                 None => self.waiting.push((pos, index, value)),
             },
         }
+        Ok(())
     }
 
     /// Copies of shared formulas whose text came later in the file; the note on the formulas

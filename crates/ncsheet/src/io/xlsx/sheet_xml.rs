@@ -827,7 +827,7 @@ impl Batch {
         self.cells.push(BatchCell { pos: cell.pos, value: cell.value, formula });
     }
 
-    fn hand_over(self, on_cell: &mut dyn FnMut(CellXml)) {
+    fn hand_over(self, on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>) -> Result<(), ScanError> {
         let Batch { cells, text } = self;
         for BatchCell { pos, value, formula } in cells {
             let formula = formula.map(|(shape, range)| {
@@ -839,33 +839,36 @@ impl Batch {
                     FormulaShape::SharedCopy(index) => FormulaXml::SharedCopy { index },
                 }
             });
-            on_cell(CellXml { pos, value, formula });
+            on_cell(CellXml { pos, value, formula })?;
         }
+        Ok(())
     }
 }
 
 /// [`read_sheet`] on a thread of its own, handing the cells to `on_cell` on this one: the
 /// XML is inflated and read while the cells before are stored, so an import takes about
-/// the longer of the two instead of their sum.
+/// the longer of the two instead of their sum. A cell `on_cell` refuses stops the read: the
+/// scanner stops at its next batch, and the refusal is the error.
 pub fn read_sheet_ahead(
     part: impl Read + Send,
     lookups: CellLookups,
     grid_slots: &mut u64,
-    on_cell: &mut dyn FnMut(CellXml),
+    on_cell: &mut dyn FnMut(CellXml) -> Result<(), ScanError>,
 ) -> Result<SheetScan, xml::StreamError<ScanError>> {
     let (sender, batches) = std::sync::mpsc::sync_channel::<Batch>(BATCHES_AHEAD);
     let mut slots = *grid_slots;
+    let mut refused = None;
     let scan = std::thread::scope(|scope| {
         let scanner = scope.spawn(move || {
             let mut batch = Batch::default();
             let scan = read_sheet(part, lookups, &mut slots, &mut |cell| {
                 batch.push(cell);
                 if batch.cells.len() >= BATCH_CELLS {
-                    // Sending fails only when this thread's receiver is gone, after a panic
-                    // there, which the scope passes on.
                     let room = Batch::with_room_of(&batch);
                     let full = std::mem::replace(&mut batch, room);
-                    let _ = sender.send(full);
+                    // The receiver is gone once a cell was refused (or after a panic there,
+                    // which the scope passes on): the rest of the part is not read.
+                    sender.send(full).map_err(|_| (ErrorKind::Damaged, "a cell was refused".to_string()))?;
                 }
                 Ok(())
             });
@@ -873,10 +876,17 @@ pub fn read_sheet_ahead(
             scan.map(|scan| (scan, slots))
         });
         for batch in batches {
-            batch.hand_over(on_cell);
+            if let Err(e) = batch.hand_over(on_cell) {
+                refused = Some(e);
+                break;
+            }
         }
         scanner.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-    })?;
+    });
+    if let Some(e) = refused {
+        return Err(xml::StreamError::Handler(e));
+    }
+    let scan = scan?;
     *grid_slots = scan.1;
     Ok(scan.0)
 }
@@ -900,6 +910,7 @@ mod tests {
             CellLookups { string_count: strings.len(), rich_errors: &[Some(XlError::Calc)], ..Default::default() };
         let scan = read_sheet_ahead(xml.as_bytes(), lookups, &mut slots, &mut |c| {
             out.push((cell_name(c.pos), c.value.map(|v| v.into_value(&strings)), format!("{:?}", c.formula)));
+            Ok(())
         });
         match scan {
             Ok(scan) => Ok((out, scan)),
