@@ -77,7 +77,12 @@ pub(super) fn read_program(
         None => {
             let extension = path.extension().and_then(|e| e.to_str());
             let guess = detect::guess(&text, extension);
-            eprintln!("{name}: read as {} ({}); --dialect says otherwise", guess.dialect.name(), guess.reason);
+            // No --dialect was given: the note says how to give one, not that one disagreed.
+            eprintln!(
+                "{name}: read as {} ({}); give --dialect to read it otherwise",
+                guess.dialect.name(),
+                guess.reason
+            );
             guess.dialect
         }
     };

@@ -1303,6 +1303,22 @@ pub fn refused_bracket_word(code: &str) -> Option<String> {
         .map(|word| format!("[{word}]"))
 }
 
+/// Where (the character, from 1) a format `code` opens a `[` that no `]` closes (`[` alone, or
+/// `[Red0`), for TEXT to name: Excel refuses such a code.
+pub fn unclosed_bracket(code: &str) -> Option<usize> {
+    let (mut quoted, mut escaped) = (false, false);
+    for (place, (i, c)) in code.char_indices().enumerate() {
+        match c {
+            _ if escaped => escaped = false,
+            '"' => quoted = !quoted,
+            '\\' if !quoted => escaped = true,
+            '[' if !quoted && !code[i + 1..].contains(']') => return Some(place + 1),
+            _ => {}
+        }
+    }
+    None
+}
+
 fn bracket_words(code: &str) -> Vec<&str> {
     let mut words = Vec::new();
     let (mut quoted, mut escaped) = (false, false);

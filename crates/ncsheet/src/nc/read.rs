@@ -347,6 +347,11 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
             while i < chars.len() && chars[i] == ' ' {
                 i += 1;
             }
+            if letter == 'O' {
+                if let Some((keyword, end)) = o_word_keyword(&chars, i) {
+                    return Err((start + 1, o_word_refused(&chars[start..end], keyword)));
+                }
+            }
             let (value, decimals, next) = number(&chars, i);
             if family == Family::Nc31 && letter == 'E' && value.is_none() {
                 line.rapid_mark = Some(start + 1);
@@ -364,6 +369,42 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
         }
     }
     Ok(line)
+}
+
+/// The keywords of LinuxCNC's O-codes (docs/src/gcode/o-code.adoc: subroutines, their
+/// calls and returns, conditions and loops), as they follow an O-number or `O<name>`.
+pub(crate) const O_WORD_KEYWORDS: &str =
+    "sub endsub call return if elseif else endif do while endwhile repeat endrepeat break continue";
+
+/// The O-code keyword `word` is, in lower case, if it is one (`SUB`, `Call`).
+pub(crate) fn o_word_keyword_named(word: &str) -> Option<&'static str> {
+    O_WORD_KEYWORDS.split(' ').find(|k| k.eq_ignore_ascii_case(word))
+}
+
+/// The LinuxCNC O-code keyword after an O-number or `O<name>` starting at `from` (`o100 sub`,
+/// `O<pocket> call [2]`), in lower case, and where it ends; `None` for a plain O-word (Fanuc's
+/// program number).
+fn o_word_keyword(chars: &[char], from: usize) -> Option<(&'static str, usize)> {
+    let mut i = from;
+    if chars.get(i) == Some(&'<') {
+        i += chars[i..].iter().position(|&c| c == '>')? + 1;
+    } else {
+        i += chars[i..].iter().take_while(|c| c.is_ascii_digit()).count();
+    }
+    i += chars[i..].iter().take_while(|c| c.is_whitespace()).count();
+    let word: String = chars[i..].iter().take_while(|c| c.is_ascii_alphabetic()).collect();
+    let keyword = o_word_keyword_named(&word)?;
+    Some((keyword, i + word.len()))
+}
+
+/// Why the O-code `code` (`o100 sub`) is refused: it names the code as LinuxCNC does rather
+/// than reading `sub` as a word S without a number.
+fn o_word_refused(code: &[char], keyword: &str) -> String {
+    let code = quoted_briefly(&code.iter().collect::<String>());
+    format!(
+        "`{code}` is a LinuxCNC O-code (the `{keyword}` of a subroutine, condition or loop): ncsheet does not read \
+         O-word subroutines or control flow; write the program out block by block"
+    )
 }
 
 /// Why the `text` after `what` (a word) gives no value: a number past the largest double

@@ -97,6 +97,14 @@ fn telling_in(code: &str) -> Option<(&'static dyn Dialect, String)> {
     }
     let mut words = code.split_whitespace();
     let first = words.next();
+    // `O100 SUB`: an O-number followed by an O-code keyword is LinuxCNC's subroutine or loop,
+    // not Fanuc's program number.
+    let second = code.split_whitespace().nth(1);
+    if let (Some(o), Some(k)) = (first.filter(|w| is_program_number(w)), second) {
+        if super::o_word_keyword_named(k).is_some() {
+            return Some((&dialect::LINUXCNC, format!("{o} {k}, an O-code")));
+        }
+    }
     if words.next_back().or(first) == Some("E") {
         return Some((&dialect::NC31, "E (the rapid mark)".into()));
     }

@@ -279,9 +279,15 @@ fn unusable_format(locale: Locale, typed: &str) -> String {
     if let Some(colour) = locale.foreign_colour(typed) {
         return format!("TEXT cannot use the format \"{typed}\": {colour} is no colour word in {locale}");
     }
+    if let Some(at) = crate::eval::locale::unclosed_bracket(typed) {
+        return format!("TEXT cannot use the format \"{typed}\": the \"[\" at character {at} is not closed by \"]\"");
+    }
     match crate::eval::locale::refused_bracket_word(typed) {
         Some(word) => format!("TEXT cannot use the format \"{typed}\": {word} is no word of a format code"),
-        None => format!("TEXT cannot use the format \"{typed}\" (digit placeholders in dates are not supported)"),
+        None => format!(
+            "TEXT cannot use the format \"{typed}\": a date or time code holds a digit placeholder (0, # or ?), \
+             an exponent or General, which Excel does not mix with dates"
+        ),
     }
 }
 
