@@ -247,7 +247,8 @@ pub trait Host {
 
     /// The decimal text of `value`, the value of `e`, when a macro holds it as a LongLong past
     /// what a double shows exactly (`9007199254740993^`: CStr, Str and Format show every digit,
-    /// "LongLong data type"); `None` for any other value. Cells have no LongLong type: `None`.
+    /// "LongLong data type") or as a Decimal (its every digit, "Decimal data type"); `None` for
+    /// any other value. Cells have neither type: `None`.
     fn long_long_text(&self, _e: &Expr, _value: &Value) -> Option<String> {
         None
     }

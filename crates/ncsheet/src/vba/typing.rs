@@ -16,6 +16,8 @@ use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
 use super::ast::{Inspect, Node, Ty, DATE_VAR_TYPE, LONG_LONG_END};
 use super::interp::{Fault, Interp};
 
+mod decimal;
+
 /// An expression's declared type, as far as the interpreter tells types apart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Declared {
@@ -272,7 +274,9 @@ pub(super) fn binary_type(op: BinOp, x: Declared, y: Declared) -> Declared {
         BinOp::IntDiv | BinOp::Mod if !variant => whole_division_type(x, y),
         // [MS-VBAL] 5.6.9.3.5: `/` of a Single keeps a Single as `*` does; `^` is a Double.
         // A Currency's quotient is a Double ("/ operator": "usually a Double"; a Currency is
-        // none of its exceptions), not rounded to four places.
+        // none of its exceptions), not rounded to four places; a Decimal's is a Decimal ("/
+        // operator": "Division involves a Decimal and any other data type: A Decimal").
+        BinOp::Div if !variant && (x == Declared::Decimal || y == Declared::Decimal) => Declared::Decimal,
         BinOp::Div if !variant => single_or_double(x, y),
         BinOp::Pow if !variant => Declared::Double,
         BinOp::And | BinOp::Or | BinOp::Xor | BinOp::Eqv | BinOp::Imp if !variant => logical_type(x, y),
@@ -336,12 +340,13 @@ pub(super) fn single_shown(n: f64) -> f64 {
     format!("{n:.6e}").parse().unwrap_or(n)
 }
 
-/// Whether `source` may hold a Single or a Currency (it names the types, their conversions,
-/// Rnd, or has a `!` or `@` type character): only then is each operation's result checked
-/// for them, so that a module of Doubles computes as fast as before.
+/// Whether `source` may hold a Single, a Currency or a Decimal (it names the types, their
+/// conversions, Rnd, or has a `!` or `@` type character): only then is each operation's
+/// result checked for them, so that a module of Doubles computes as fast as before.
 pub(super) fn names_single_or_currency(source: &str) -> bool {
     let names = |word: &[u8]| source.as_bytes().windows(word.len()).any(|w| w.eq_ignore_ascii_case(word));
-    source.contains(['!', '@']) || [&b"single"[..], b"currency", b"csng", b"ccur", b"rnd"].into_iter().any(names)
+    source.contains(['!', '@'])
+        || [&b"single"[..], b"currency", b"csng", b"ccur", b"rnd", b"cdec", b"decimal"].into_iter().any(names)
 }
 
 /// `x op y` on Currencies: 64-bit integers of ten-thousandths ("Currency data type"), each
@@ -445,6 +450,7 @@ fn function_type(name: &str) -> Declared {
         "VBA.CBYTE" => Declared::Byte,
         "VBA.CSNG" => Declared::Single,
         "VBA.CCUR" => Declared::Currency,
+        "VBA.CDEC" => Declared::Decimal,
         "VBA.CDBL" | "VBA.VAL" | "VBA.TIMER" | "VBA.ATN" | "VBA.COS" | "VBA.SIN" | "VBA.TAN" | "VBA.EXP"
         | "VBA.LOG" | "VBA.SQR" => Declared::Double,
         "VBA.CSTR" | "VBA.WEEKDAYNAME" | "VBA.MONTHNAME" => Declared::String,
@@ -755,8 +761,9 @@ impl Interp<'_, '_> {
     }
 
     /// `result`, the value of `a op b`, computed in its type where that is a Single (rounded
-    /// to a 32-bit float, "Single data type") or a Currency (a scaled 64-bit integer,
-    /// "Currency data type") ([MS-VBAL] 5.6.9.3: the operation's value type is its result's);
+    /// to a 32-bit float, "Single data type"), a Currency (a scaled 64-bit integer,
+    /// "Currency data type") or a Decimal (exact decimals, `typing/decimal.rs`) ([MS-VBAL] 5.6.9.3:
+    /// the operation's value type is its result's);
     /// Overflow (run-time error 6) past the type's range, where a Variant's Single widens to
     /// a Double instead.
     pub(super) fn in_its_type(
@@ -791,6 +798,11 @@ impl Interp<'_, '_> {
                     None if op == BinOp::Div => Ok(result),
                     None => past("a Currency (±922,337,203,685,477.5807)"),
                 }
+            }
+            // The decimals' exact result (`typing/decimal.rs`), not the doubles'.
+            Declared::Decimal => {
+                let number = |v: &Value| to_number(v, DateSystem::From1900).unwrap_or(0.0);
+                self.decimal_result(op, (a, b), (number(values.0), number(values.1)))
             }
             _ => Ok(result),
         }
