@@ -49,10 +49,33 @@ fn a_cycle_through_index_offset_or_indirect_iterates_as_the_plain_chain() {
 // Every function at the edges of doubles
 
 /// Arguments at the edges of doubles: the largest and smallest, the smallest normal and
-/// subnormal, zero, an array of the largest, and an array of no items (VBA's `Array()`, the
-/// one function that makes one).
-const EDGES: [&str; 7] =
-    ["1E+308", "-1E+308", "2.2250738585072014E-308", "5E-324", "0", "{1E+308,1E+308,1E+308}", "VBA.ARRAY()"];
+/// subnormals of both signs, zero and a negative zero made by arithmetic (`-0*1`: a formula
+/// cannot type one), the last whole numbers a double counts one by one (2^53) and 2^63 (past
+/// any 64-bit integer a function might count with), 1E+15 (Excel's 15 digits) and 2^32 (a huge
+/// count, past any 32-bit one), arrays of the largest (two of one sign, and of both signs), an
+/// array of no items (VBA's `Array()`, the one function that makes one), a missing argument,
+/// and texts, empty and not a number.
+const EDGES: [&str; 19] = [
+    "1E+308",
+    "-1E+308",
+    "2.2250738585072014E-308",
+    "5E-324",
+    "1E-320",
+    "-1E-320",
+    "0",
+    "-0*1",
+    "9007199254740992",
+    "-9007199254740993",
+    "9223372036854775808",
+    "1E+15",
+    "4294967296",
+    "{1E+308,1E+308,1E+308}",
+    "{1E+308,-1E+308}",
+    "VBA.ARRAY()",
+    "",
+    "\"\"",
+    "\"x\"",
+];
 
 /// The calls of `name` taking `arity` arguments with an edge value in each place in turn
 /// (the others 1), and in every place at once.
@@ -105,7 +128,7 @@ fn no_function_at_the_edges_of_doubles_panics_or_leaks_inf_nan_or_minus_zero() {
             formulas.extend(edge_calls(spec.name, arity));
         }
     }
-    assert!(formulas.len() > 10_000, "{} calls: the registry was not read", formulas.len());
+    assert!(formulas.len() > 25_000, "{} calls: the registry was not read", formulas.len());
     let faults: Vec<String> = formulas.iter().filter_map(|f| edge_fault(f)).collect();
     assert!(faults.is_empty(), "{} faults:\n{}", faults.len(), faults.join("\n"));
 }
@@ -184,4 +207,60 @@ fn irr_and_xirr_of_flows_near_the_largest_double_find_the_rate() {
             other => panic!("{f}: {other:?}"),
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Annuities whose growth (1 + rate)^nper passes the doubles
+
+#[test]
+fn payments_past_an_overflowing_growth_are_the_numbers_they_are() {
+    // (1 + rate)^nper past 1.8E+308 made ∞/∞ in PMT and PV: #NUM! where the payment is an
+    // ordinary number. Values by mpmath at 60 digits from the annuity formula of Excel's PMT
+    // and PV pages, −(fv + pv·g)·rate / ((1 + rate·type)(g − 1)) and
+    // −(fv + pmt(1 + rate·type)(g − 1)/rate)/g with g = (1 + rate)^nper; LibreOffice gives
+    // PV(1000,1000,1) = −0.001 too (its PMT and CUMIPMT are #NUM!).
+    let cases = [
+        ("=PMT(1,2000,1000)", -1000.0),
+        ("=PMT(1E+10,1E+10,1000)", -1e13),
+        ("=PMT(1,2000,1000,0,1)", -500.0),
+        ("=PMT(1000,1000,1000)", -1e6),
+        ("=PV(1000,1000,1)", -0.001),
+        ("=PV(1,2000,1,1E+300)", -1.0),
+        // The interest of the first two payments: −1000 each (each period's interest is
+        // rate × the balance, and a payment of about −1000 leaves the balance at 1000).
+        ("=CUMIPMT(1,2000,1000,1,2,0)", -2000.0),
+        ("=CUMIPMT(1000,1000,1000,1,2,0)", -2e6),
+        ("=IPMT(1,2,2000,1000)", -1000.0),
+    ];
+    for (formula, want) in cases {
+        let v = a1(formula);
+        assert!(near(&v, want), "{formula}: {v:?}, want {want}");
+    }
+    // FV itself past the doubles stays #NUM! (2^2000 · 1).
+    assert_eq!(a1("=FV(1,2000,0,-1)"), Value::Error(ncsheet::eval::XlError::Num));
+}
+
+#[test]
+fn nominal_of_many_periods_is_excels_formula_in_doubles() {
+    // Excel computes NOMINAL as ((1 + effect)^(1/npery) − 1)·npery in doubles: the values it
+    // stored in the IronCalc corpus (calc_tests/FINANCIAL/NOMINAL_EFFECT.xlsx: 0.5 over 10
+    // periods is 0.41379743992410623, 8 over 7 is 2.5811667464954122) are that formula's to
+    // the last bit, where ln_1p and exp_m1 differ in the last digits. At 1E+15 periods the power
+    // is 1 + 3111 units of its last place, so the formula gives 3111·2^-52·1E+15 =
+    // 690.7807659217724 (Python's float arithmetic; the exact value is 690.77552789845, by
+    // mpmath): a rounding of the power that Excel's own arithmetic makes, kept as Excel keeps it.
+    let v = a1("=NOMINAL(1E+300,1E+15)");
+    assert!(near(&v, 3111.0 * f64::EPSILON * 1e15), "{v:?}");
+    // Excel's own example (NOMINAL function page): NOMINAL(5.3543%, 4) = 0.05250032.
+    let v = a1("=NOMINAL(0.053543,4)");
+    assert!(matches!(v, Value::Number(n) if (n - 0.052_500_32).abs() < 5e-9), "{v:?}");
+}
+
+#[test]
+fn declining_balance_over_a_long_life_is_exact_to_its_digits() {
+    // VDB(1000,0,1E7,0,10): ten periods of double-declining balance at 2/1E+7 a period,
+    // 1000·(1 − (1 − 2E-7)^10) = 0.00199999820000095999966… (mpmath at 40 digits); it steps
+    // the ten periods, not the life.
+    let v = a1("=VDB(1000,0,1E+7,0,10)");
+    assert!(near(&v, 0.001_999_998_200_000_96), "{v:?}");
 }

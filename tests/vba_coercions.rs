@@ -127,14 +127,16 @@ fn exp_past_a_doubles_range_is_overflow() {
 
 /// "Type conversion functions": CVar returns a Variant of what it is given, so TypeName sees the
 /// argument's own type (an Integer literal stays Integer, a Double Double), and CVar(Null) is
-/// Null. CDec's Decimal (28 digits) is refused with its reason, not computed as a Double.
+/// Null. CDec of text of more digits than ncsheet keeps of a Decimal (VBA keeps 28; ncsheet
+/// what a double gives back, `vba/typing/decimal.rs`) is refused with its reason, not rounded.
 #[test]
-fn cvar_keeps_the_type_and_cdec_is_refused_by_name() {
+fn cvar_keeps_the_type_and_cdec_of_too_many_digits_is_refused_by_name() {
     let printed = run_main(
         &mut Workbook::with_sheet(),
         "    Debug.Print TypeName(CVar(5)); \" \"; TypeName(CVar(2.5)); \" \"; CVar(\"a\"); \" \"; IsNull(CVar(Null))",
     );
     assert_eq!(printed, vec!["Integer Double a True"]);
-    let message = main_fails(&mut Workbook::with_sheet(), "    Dim v As Variant\n    v = CDec(1)");
+    let message =
+        main_fails(&mut Workbook::with_sheet(), "    Dim v As Variant\n    v = CDec(\"1.2345678901234567890\")");
     assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
 }

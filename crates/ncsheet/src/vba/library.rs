@@ -262,6 +262,8 @@ impl Interp<'_, '_> {
         Ok(match self.eval(arg)? {
             Value::Text(t) => {
                 use crate::eval::functions::vba::{vba_number, vba_number_text};
+                // Read whole, however short the answer (work: a unit per 16 bytes, `Ctx::charge_read`).
+                self.add_work(t.len() as u64 / 16);
                 vba_number_text(&t).is_none() && vba_number(&Value::Text(t)).is_ok()
             }
             _ => false,

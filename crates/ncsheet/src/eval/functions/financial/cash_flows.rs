@@ -142,7 +142,18 @@ fn pv_of(rate: f64, nper: f64, pmt: f64, fv: f64, kind: f64) -> f64 {
         return -(fv + pmt * nper);
     }
     let growth = (1.0 + rate).powf(nper);
+    if growth.is_infinite() {
+        // Divided through by the growth: PV(1000,1000,1) is −0.001 (LibreOffice), not ∞/∞.
+        let shrink = growth_inverse(rate, nper);
+        return -(fv * shrink + pmt * (1.0 + rate * kind) * (1.0 - shrink) / rate);
+    }
     -(fv + pmt * (1.0 + rate * kind) * (growth - 1.0) / rate) / growth
+}
+
+/// 1 / (1 + rate)^nper where the growth itself is past the doubles: through ln(1 + rate), so
+/// that it is the (tiny, perhaps 0) number it is rather than 1/∞ after an overflow.
+fn growth_inverse(rate: f64, nper: f64) -> f64 {
+    (-nper * rate.ln_1p()).exp()
 }
 
 fn fv_of(rate: f64, nper: f64, pmt: f64, pv: f64, kind: f64) -> f64 {
@@ -158,6 +169,13 @@ fn pmt_of(rate: f64, nper: f64, pv: f64, fv: f64, kind: f64) -> f64 {
         return -(pv + fv) / nper;
     }
     let growth = (1.0 + rate).powf(nper);
+    if growth.is_infinite() {
+        // Divided through by the growth: a loan at 100 % over 2,000 periods pays its interest,
+        // PMT(1,2000,1000) = −1000 (exact arithmetic), where ∞/∞ was #NUM!; CUMIPMT, IPMT and
+        // PPMT read their payment here.
+        let shrink = growth_inverse(rate, nper);
+        return -(fv * shrink + pv) * (rate / ((1.0 + rate * kind) * (1.0 - shrink)));
+    }
     -(fv + pv * growth) * rate / ((1.0 + rate * kind) * (growth - 1.0))
 }
 
@@ -792,6 +810,9 @@ fn nominal(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar_numbers(ctx, args, &|a| {
         let (effect, npery) = (toolpak_number(a.value(0), a.1)?, toolpak_number(a.value(1), a.1)?.trunc());
         check(effect > 0.0 && npery >= 1.0, XlError::Num)?;
+        // Excel's formula in doubles, as Excel computes it: its stored values match it to the
+        // last bit (IronCalc corpus NOMINAL_EFFECT.xlsx), and at 1E+15 periods it keeps only
+        // the digits the power has (NOMINAL(1E300,1E15) is 690.78077, exactly 690.77553).
         finite(((1.0 + effect).powf(1.0 / npery) - 1.0) * npery)
     })
 }

@@ -543,10 +543,42 @@ pub(super) fn cvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(ctx.eval(&args[0]).unwrap_single())
 }
 
-/// `CDec(value)`: a Decimal (28 significant digits) is a type ncsheet does not compute;
-/// a Double in its place would be a silently different number, so the call is refused.
-pub(super) fn cdec(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
-    Err(invalid_call(ctx, "CDec", "the Decimal type (28 digits) is not computed by ncsheet; use CDbl or CCur"))
+/// `CDec(value)` ("Type conversion functions", "Decimal data type"): a Decimal, within
+/// ±79,228,162,514,264,337,593,543,950,335, else Overflow. A number becomes the decimal of its
+/// 15 significant digits, as OLE Automation's VarDecFromR8 converts a Double (`CDec(0.1 +
+/// 0.2)` is 0.3); the macro holds it as the double nearest to it and computes its
+/// operations on its decimal (`vba/typing/decimal.rs`). Text of more significant digits than a
+/// double gives back is refused by name: VBA keeps 28.
+pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    // 2^96 - 1, the largest Decimal, as the nearest double.
+    const DECIMAL_END: f64 = 79_228_162_514_264_337_593_543_950_335.0;
+    let fifteen_digits = |n: f64| format!("{n:.14e}").parse().unwrap_or(n);
+    let raised = Raised::default();
+    let result = lift_vba(ctx, args, "CDec", NO_NULL, &|v| {
+        let n = match &v[0] {
+            Value::Bool(b) => -f64::from(u8::from(*b)),
+            Value::Blank => 0.0,
+            Value::Text(t) if significant_digits(t) > 15 => {
+                return Err(raised.set(
+                    5,
+                    "text of more than 15 significant digits: ncsheet keeps a Decimal's digits only as far as a \
+                     Double gives them back (VBA keeps 28)",
+                ))
+            }
+            other => raised.number(other)?,
+        };
+        Some(fifteen_digits(n))
+            .filter(|r: &f64| r.abs() <= DECIMAL_END)
+            .map(Value::Number)
+            .ok_or_else(|| raised.set(6, "a number past the range of its type"))
+    });
+    raised.raise(ctx, "CDec", result)
+}
+
+/// The significant digits of a number written as text (leading zeros and any exponent aside).
+fn significant_digits(text: &str) -> usize {
+    let mantissa = text.trim().trim_start_matches(['-', '+']).split(['e', 'E']).next().unwrap_or("");
+    mantissa.replace('.', "").trim_start_matches('0').chars().take_while(char::is_ascii_digit).count()
 }
 
 #[cfg(test)]

@@ -290,7 +290,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("VBA.CSNG", 1, 1, conversions::csng, "VBA.CSNG(value)", "VBA CSng: number as a Single"),
     FnSpec::value("VBA.CCUR", 1, 1, conversions::ccur, "VBA.CCUR(value)", "VBA CCur: number to 4 decimal places"),
     FnSpec::value("VBA.CVAR", 1, 1, conversions::cvar, "VBA.CVAR(value)", "VBA CVar: the value as a Variant, as it is"),
-    FnSpec::value("VBA.CDEC", 1, 1, conversions::cdec, "VBA.CDEC(value)", "VBA CDec: refused (no Decimal type)"),
+    FnSpec::value("VBA.CDEC", 1, 1, conversions::cdec, "VBA.CDEC(value)", "VBA CDec: the value as a Decimal"),
     FnSpec::value(
         "VBA.STRING",
         2,
@@ -588,8 +588,23 @@ fn integer_layout(digits: &str, code: &str) -> Option<String> {
     Some(format!("{sign}{grouped}"))
 }
 
-/// [`lift_vba`] on values already evaluated.
+/// [`lift_vba`] on values already evaluated. A library function reads its texts whole
+/// (`CDbl`, `Val` or `Trim` of 16 million spaces answer a number or a short text): they count
+/// against a macro's statement limit ([`Ctx::charge_texts`]), as the text it makes does.
 fn lift_vba_values(
+    ctx: &mut Ctx,
+    values: Vec<Value>,
+    name: &str,
+    passes: Passes,
+    f: &dyn Fn(&[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
+    ctx.charge_texts(&values);
+    lift_vba_reading_part(ctx, values, name, passes, f)
+}
+
+/// [`lift_vba_values`] of a function that reads only a part of its text, whatever its length
+/// (`Left`, `Right`, `Mid`, `Asc`): what it reads is counted by the function.
+fn lift_vba_reading_part(
     ctx: &mut Ctx,
     values: Vec<Value>,
     name: &str,
@@ -732,10 +747,13 @@ fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::from(crate::eval::value::Array::row(items)))
 }
 
-/// "Round function": a negative number of decimal places is run-time error 5.
+/// "Round function": a negative number of decimal places is run-time error 5. A macro's
+/// Decimal rounds its own digits to even (`round_decimal_text`).
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let decimal = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
     let raised = Raised::default();
-    let result = lift_vba(ctx, args, "Round", FIRST, &|v| {
+    let result = lift_vba_values(ctx, values, "Round", FIRST, &|v| {
         let x = vba_number(&v[0])?;
         let digits = match v.get(1) {
             None | Some(Value::Blank) => 0.0,
@@ -747,10 +765,33 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if digits.trunc() > 22.0 {
             return Err(XlError::Value);
         }
+        if let Some(rounded) = decimal.as_deref().and_then(|t| round_decimal_text(t, digits.trunc() as u32)) {
+            return Ok(Value::Number(rounded));
+        }
         let scale = 10f64.powi(digits.trunc() as i32);
         Ok(number_result((x * scale).round_ties_even() / scale))
     });
     raised.raise(ctx, "Round", result)
+}
+
+/// `Round` of a macro's Decimal, written `text`, to `digits` places: its digits rounded, halves
+/// to even ("Round function"), so the Decimal 2.345 is a tie and gives 2.34, where the Double
+/// 2.345 times 100 is 234.50000000000003 and gives 2.35. `None` when it has no more places.
+fn round_decimal_text(text: &str, digits: u32) -> Option<f64> {
+    let negative = text.starts_with('-');
+    let body = text.trim_start_matches('-');
+    let (whole, fraction) = body.split_once('.').unwrap_or((body, ""));
+    let places = u32::try_from(fraction.len()).ok()?;
+    if places <= digits {
+        return None;
+    }
+    let mantissa: i128 = format!("{whole}{fraction}").parse().ok()?;
+    let dropped = 10_i128.checked_pow(places - digits)?;
+    let (mut kept, rest) = (mantissa / dropped, mantissa % dropped);
+    if rest * 2 > dropped || (rest * 2 == dropped && kept % 2 == 1) {
+        kept += 1;
+    }
+    format!("{}{kept}e-{digits}", if negative { "-" } else { "" }).parse().ok()
 }
 
 /// VBA's conversion to a whole number: halves to even; out of range VBA's Overflow, run-time
@@ -890,19 +931,48 @@ fn text_fn(
     passes: Passes,
     f: &dyn Fn(&str, &[Value]) -> XlResult<Value>,
 ) -> XlResult<Value> {
+    text_fn_reading(ctx, args, name, passes, Reads::Whole, f)
+}
+
+/// How much of its text a text function reads: its work counts against a macro's statement
+/// limit, so `Trim` of a long text in a loop stops within the limit's time.
+#[derive(Clone, Copy, PartialEq)]
+enum Reads {
+    Whole,
+    /// A part bounded by the other arguments (`Left(s, 1)`), counted by the function itself.
+    Part,
+}
+
+/// [`text_fn`] of a function reading `reads` of its text.
+fn text_fn_reading(
+    ctx: &mut Ctx,
+    args: &[Expr],
+    name: &str,
+    passes: Passes,
+    reads: Reads,
+    f: &dyn Fn(&str, &[Value]) -> XlResult<Value>,
+) -> XlResult<Value> {
     // A macro's text growing in place (`s = s & …`) is read where it is, not copied: a loop
     // reading `Right(s, 1)` between appends copied the whole text at every turn.
     if let Some(Expr { kind: ExprKind::Name(variable), .. }) = args.first() {
         if let Some(text) = ctx.host_growing_text(variable) {
             let rest: Vec<Value> = args[1..].iter().map(|a| ctx.eval(a)).collect();
+            if reads == Reads::Whole {
+                ctx.charge_read(text.len());
+            }
             if rest.iter().all(|v| matches!(v, Value::Number(_) | Value::Text(_) | Value::Bool(_))) {
                 return f(text.as_str(), &rest);
             }
             let values = std::iter::once(Value::text(text.as_str())).chain(rest).collect();
-            return lift_vba_values(ctx, values, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]));
+            return lift_vba_reading_part(ctx, values, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]));
         }
     }
-    lift_vba(ctx, args, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]))
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let lift = match reads {
+        Reads::Whole => lift_vba_values,
+        Reads::Part => lift_vba_reading_part,
+    };
+    lift(ctx, values, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]))
 }
 
 /// A count argument (lengths, positions): a whole number; below zero run-time error 5 (the
@@ -919,10 +989,11 @@ fn count(raised: &Raised, v: &Value) -> XlResult<usize> {
 /// the other arguments.
 type CheckedTextBody<'f> = &'f dyn Fn(&Raised, &str, &[Value]) -> XlResult<Value>;
 
-/// [`text_fn`] whose `f` notes run-time errors in the `Raised` it is given.
+/// [`text_fn`] whose `f` notes run-time errors in the `Raised` it is given, for the functions
+/// reading a part of their text (`Left`, `Right`, `Mid`: what they take is counted as made).
 fn checked_text_fn(ctx: &mut Ctx, args: &[Expr], name: &str, f: CheckedTextBody) -> XlResult<Value> {
     let raised = Raised::default();
-    let result = text_fn(ctx, args, name, FIRST, &|s, rest| f(&raised, s, rest));
+    let result = text_fn_reading(ctx, args, name, FIRST, Reads::Part, &|s, rest| f(&raised, s, rest));
     raised.raise(ctx, name, result)
 }
 
@@ -967,36 +1038,52 @@ fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         }
         _ => None,
     };
-    checked_text_fn(ctx, args, "Mid", &|raised, s, rest| {
+    let scanned = std::cell::Cell::new(0);
+    let result = checked_text_fn(ctx, args, "Mid", &|raised, s, rest| {
         let start = count(raised, &rest[0])?;
         if start == 0 {
             return Err(raised.set(5, "start is below 1"));
         }
         let length = if has_length { count(raised, &rest[1])? } else { usize::MAX };
-        let from = char_start(s, start - 1, chars);
+        let (from, work) = char_start(s, start - 1, chars);
+        scanned.set(scanned.get() + work);
         let part = &s[from..];
         let end = part.char_indices().nth(length).map_or(part.len(), |(at, _)| at);
         Ok(Value::text(&part[..end]))
-    })
+    });
+    // Finding the start is work in the characters skipped: `c = Mid(s, i, 1)` over a text of
+    // millions of characters, charged nothing, ran for hours within the statement limit.
+    ctx.charge(scanned.get());
+    result
 }
+
+/// Bytes checked for ASCII a unit of work stands for: checked a word at a time, about 64
+/// times faster than the characters stepped one by one that a unit of 16 bytes stands for
+/// elsewhere (`Ctx::charge_read`).
+const ASCII_BYTES_PER_UNIT: usize = 1024;
 
 /// The byte where character `skip` (0-based) of `s` starts (`s.len()` past its end), in work
 /// bounded by the part skipped, not by counting characters one by one from the start: a
 /// `For i = 1 To Len(s): c = Mid(s, i, 1)` loop over a long text was quadratic in characters
 /// stepped. An ASCII prefix is its own byte count (checked a word at a time); with the text's
 /// length in characters known (`chars`), a character in its second half is found from the end.
-fn char_start(s: &str, skip: usize, chars: Option<usize>) -> usize {
+/// Also the work it took, in [`Ctx::charge`]'s units (a character stepped is a byte read).
+fn char_start(s: &str, skip: usize, chars: Option<usize>) -> (usize, usize) {
+    let stepped = |bytes: usize| bytes / 16;
     match chars {
-        Some(total) if skip >= total => return s.len(),
+        Some(total) if skip >= total => return (s.len(), 0),
         Some(total) if skip > total / 2 => {
-            return s.char_indices().rev().nth(total - skip - 1).map_or(0, |(at, _)| at);
+            let at = s.char_indices().rev().nth(total - skip - 1).map_or(0, |(at, _)| at);
+            return (at, stepped(s.len() - at));
         }
         _ => {}
     }
+    let checked = skip.min(s.len()) / ASCII_BYTES_PER_UNIT;
     if s.as_bytes().get(..skip).is_some_and(<[u8]>::is_ascii) {
-        return skip;
+        return (skip, checked);
     }
-    s.char_indices().nth(skip).map_or(s.len(), |(at, _)| at)
+    let at = s.char_indices().nth(skip).map_or(s.len(), |(at, _)| at);
+    (at, checked + stepped(at))
 }
 
 fn ucase(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -1041,7 +1128,7 @@ fn chr(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// contains no characters, a run-time error occurs" (error 5).
 fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
-    let result = text_fn(ctx, args, "Asc", NO_NULL, &|s, _| {
+    let result = text_fn_reading(ctx, args, "Asc", NO_NULL, Reads::Part, &|s, _| {
         let c = s.chars().next().ok_or_else(|| raised.set(5, "the text is empty"))?;
         let mut unit = [0u8; 4];
         let (bytes, _, unmappable) = encoding_rs::WINDOWS_1252.encode(c.encode_utf8(&mut unit));
@@ -1057,7 +1144,7 @@ fn asc(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// (high surrogate) unit; empty text is error 5, as for Asc.
 fn ascw(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let raised = Raised::default();
-    let result = text_fn(ctx, args, "AscW", NO_NULL, &|s, _| {
+    let result = text_fn_reading(ctx, args, "AscW", NO_NULL, Reads::Part, &|s, _| {
         let unit = s.encode_utf16().next().ok_or_else(|| raised.set(5, "the text is empty"))?;
         Ok(Value::Number(f64::from(unit as i16)))
     });
@@ -1100,7 +1187,10 @@ fn is_object(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 /// VBA's IsNumeric: numbers and number text; date text is not numeric there (IsDate's).
 fn is_numeric(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Ok(Value::Bool(match ctx.eval(&args[0]).unwrap_single() {
+    let value = ctx.eval(&args[0]).unwrap_single();
+    // The text is read whole (16 million spaces before a digit).
+    ctx.charge_texts(std::slice::from_ref(&value));
+    Ok(Value::Bool(match value {
         // "IsNumeric function": "IsNumeric returns False if expression is a date expression".
         v @ Value::Number(_) => ctx.macro_date_text(&args[0], &v).is_none(),
         Value::Bool(_) | Value::Blank => true,
