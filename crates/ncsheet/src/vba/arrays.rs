@@ -103,8 +103,10 @@ impl Interp<'_, '_> {
     pub(super) fn element_at(&self, a: &VArray, index: &[i64]) -> Result<usize, String> {
         let (row, col) = match (a.dims, index) {
             (0, _) => return Err("the array has no bounds yet (ReDim gives them)".into()),
-            (1, [i]) => (0, i - a.lower.1),
-            (2, [i, j]) => (i - a.lower.0, j - a.lower.1),
+            // Saturating: an index near i64's ends (`a(-9.2E+18)`) is outside any bounds, not
+            // an overflow.
+            (1, [i]) => (0, i.saturating_sub(a.lower.1)),
+            (2, [i, j]) => (i.saturating_sub(a.lower.0), j.saturating_sub(a.lower.1)),
             (d, _) if d > 2 && index.len() == d as usize => {
                 let shape = a.shape.as_deref().expect("an array of three dimensions or more has its shape");
                 return position_in(shape, index).ok_or_else(|| outside_bounds(index));
@@ -873,14 +875,113 @@ impl Interp<'_, '_> {
     /// is a part of `a` ([MS-VBAL] 2.2: an array item of a Variant holds the array value,
     /// and an index expression on it names its element as a variable, 5.6.13.1). The value
     /// is evaluated first, then the indexes left to right, as for `a(i) = v`.
+    // Out of line: the statement executor is on every macro call's stack, and this
+    // path's locals would widen each of its frames.
+    #[inline(never)]
     pub(super) fn set_nested_item(&self, id: u32, value: &Expr, set: bool, span: Span) -> Run<()> {
         let (name, chain) = self.nested_item(id).expect("a nested item");
+        if let Some(owner) = self.object_item_owner(&name, chain[0], span)? {
+            return self.let_through_default_members(owner, &chain[1..], value, set, span);
+        }
         let (item, date) = self.nested_value(value, set, span)?;
         let mut at = Vec::new();
         for index in &chain {
             at.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
         }
         self.put_nested_in(&name, at, item, date, span)
+    }
+
+    /// What `name(i)` holds when it is an object, for `name(i)(j) = v`: the item of a
+    /// Collection or a Dictionary `name` (their default member, Item), the default member of
+    /// a class's object `name`, or an array's item holding an object. `None` for an array's
+    /// value item, which the array path puts into.
+    #[inline(never)]
+    fn object_item_owner(&self, name: &str, index: &[Expr], span: Span) -> Run<Option<Var>> {
+        let held = self.peek(name, |held| match held {
+            Var::Obj(o @ (Obj::Store(_) | Obj::Instance(_))) => Some(Ok(Var::Obj(o.clone()))),
+            Var::Array(a) if a.objects.as_ref().is_some_and(|o| !o.is_empty()) => Some(Err(a.clone())),
+            _ => None,
+        });
+        match held.flatten() {
+            Some(Ok(object)) => self.item_of(object, index, span).map(Some),
+            Some(Err(array)) => {
+                let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+                let k = self.element_at(&array, &at).map_err(|m| self.subscript_error(span, name, m))?;
+                Ok(Some(array.item(k)).filter(|item| matches!(item, Var::Obj(Obj::Store(_) | Obj::Instance(_)))))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// `held(index)` read: a Collection's or a Dictionary's item, a class's default member, an
+    /// array's item ([MS-VBAL] 5.6.13.1: an index expression on an object is a call of its
+    /// default member).
+    #[inline(never)]
+    fn item_of(&self, held: Var, index: &[Expr], span: Span) -> Run<Var> {
+        let mut ctx = self.ctx();
+        match held {
+            Var::Obj(Obj::Store(h)) => {
+                let key = self.store_key(&mut ctx, index, span)?;
+                self.store_item(&h, &key, span)
+            }
+            Var::Obj(Obj::Instance(object)) => {
+                let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+                self.default_member(&mut ctx, &object, &args, span).map(super::classes::obj_var)
+            }
+            Var::Array(a) => {
+                let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+                let k = self.element_at(&a, &at).map_err(|m| self.subscript_error(span, "the array", m))?;
+                Ok(a.item(k))
+            }
+            other => {
+                let what = match &other {
+                    Var::Obj(o) => o.describe(),
+                    _ => "a value",
+                };
+                let mut f = self.fault_at(span, format!("Type mismatch (run-time error 13): indexing {what}"));
+                f.code = 13;
+                Err(f)
+            }
+        }
+    }
+
+    /// `dicts(0)("k") = v`, `c(1)(2) = v`, `d("a")("b") = v`: a Let (or Set) through the
+    /// default member of the object an item holds, each index list but the last reading the
+    /// default member on the way ([MS-VBAL] 5.4.3.8: the Let statement on an index expression
+    /// whose target is an object assigns its default member; 5.6.13.1). An item that holds
+    /// an array is a copy the Let would change and drop: refused, as before.
+    #[inline(never)]
+    fn let_through_default_members(
+        &self,
+        mut held: Var,
+        lists: &[&[Expr]],
+        value: &Expr,
+        set: bool,
+        span: Span,
+    ) -> Run<()> {
+        let Some((last, on_the_way)) = lists.split_last() else {
+            return Err(self.fault_at(span, "an object's item is assigned through its default member with an index"));
+        };
+        for index in on_the_way {
+            held = self.item_of(held, index, span)?;
+        }
+        match held {
+            Var::Obj(Obj::Store(h)) => {
+                let key = self.store_key(&mut self.ctx(), last, span)?;
+                let (item, _) = self.nested_value(value, set, span)?;
+                self.set_store_item(&h, &key, item, span)
+            }
+            Var::Obj(Obj::Instance(object)) => {
+                let args: Vec<Arg> = last.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+                self.set_default_member(&mut self.ctx(), &object, &args, value, span)
+            }
+            _ => Err(self.fault_at(
+                span,
+                "(…)(…) = …: the item reached holds a value, not an object; a Collection's or a Dictionary's item \
+                 is given as a copy, which VBA changes and drops: take the item into a variable, change it and put \
+                 it back",
+            )),
+        }
     }
 
     /// What `….(i)(j) = value` (or `Set … = value`) puts in the item, and whether it is a Date.

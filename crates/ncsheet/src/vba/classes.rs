@@ -80,10 +80,24 @@ impl Drop for Object {
     }
 }
 
-/// Drops what `pending` holds, the objects it alone holds emptied first (an explicit stack
-/// instead of nested drops; a Collection or a Dictionary empties itself the same way).
+/// Drops what `pending` holds, what it alone holds taken out first (an explicit stack
+/// instead of nested drops): the fields of objects, the items of Collections and
+/// Dictionaries, and the items of arrays, whose arrays, objects and records are let go the
+/// same way. A chain a million deep of any of them (`a = Array(a)` in a loop, a Collection
+/// holding an array holding the next) does not take the native stack with it.
 pub(super) fn let_go(mut pending: Vec<Var>) {
-    while let Some(var) = pending.pop() {
+    let mut arrays: Vec<Rc<crate::eval::Array>> = Vec::new();
+    loop {
+        if let Some(array) = arrays.pop() {
+            if let Ok(mut array) = Rc::try_unwrap(array) {
+                arrays.extend(array.data.drain(..).filter_map(|item| match item {
+                    crate::eval::Value::Array(inner) => Some(inner),
+                    _ => None,
+                }));
+            }
+            continue;
+        }
+        let Some(var) = pending.pop() else { break };
         match var {
             Var::Obj(Obj::Instance(o)) => {
                 if let Ok(object) = Rc::try_unwrap(o.0) {
@@ -91,7 +105,18 @@ pub(super) fn let_go(mut pending: Vec<Var>) {
                     pending.extend(fields.iter().map(|s| s.var().clone()));
                 }
             }
+            Var::Obj(Obj::Store(h)) => {
+                if let Ok(store) = Rc::try_unwrap(h.0) {
+                    pending.extend(store.into_inner().take_items());
+                }
+            }
             Var::Record(_, fields) => pending.extend(fields),
+            Var::Array(a) => {
+                let (data, parts) = a.into_parts();
+                arrays.push(data);
+                pending.extend(parts);
+            }
+            Var::Value(crate::eval::Value::Array(data)) => arrays.push(data),
             _ => {}
         }
     }

@@ -72,19 +72,8 @@ pub struct Store {
 /// a chain of a million Collections each holding the next does not take the native stack.
 impl Drop for Store {
     fn drop(&mut self) {
-        let mut pending: Vec<Var> = self.entries.drain(..).flatten().map(|(_, item, _)| item).collect();
-        while let Some(var) = pending.pop() {
-            match var {
-                Var::Obj(Obj::Store(h)) => {
-                    if let Ok(cell) = Rc::try_unwrap(h.0) {
-                        let mut inner = cell.into_inner();
-                        pending.extend(inner.entries.drain(..).flatten().map(|(_, item, _)| item));
-                    }
-                }
-                Var::Record(_, fields) => pending.extend(fields),
-                _ => {}
-            }
-        }
+        let items = self.entries.drain(..).flatten().map(|(_, item, _)| item).collect();
+        super::classes::let_go(items);
     }
 }
 

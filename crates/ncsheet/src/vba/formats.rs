@@ -25,6 +25,7 @@ use crate::workbook::{Axis, SheetEdit, SheetLook, Workbook};
 
 use super::ast::{Link, Span};
 use super::interp::{Interp, Run};
+use super::typing::Declared;
 use super::value::{print_text, Obj};
 
 /// Excel's standard column width (8.43 digits of Calibri 11) and row height (15 points), the
@@ -361,6 +362,21 @@ impl Interp<'_, '_> {
     /// The number format code a cell shows its number in ("General" without one).
     pub(super) fn cell_format(&self, sheet: SheetId, pos: Pos) -> Option<Rc<str>> {
         self.looks.borrow().sheets.get(&sheet).and_then(|s| s.format(pos))
+    }
+
+    /// The type `Range.Value` gives a cell's number in ("Range.Value property": unlike Value2,
+    /// Value gives the Currency and Date data types): a Date where the cell's number format
+    /// shows a date or time, a Currency where it shows a currency symbol (Excel's Currency and
+    /// Accounting formats: `"$"#,##0.00`, `[$€-407] #,##0.00`), a Double (Variant) elsewhere.
+    pub(super) fn cell_value_type(&self, sheet: SheetId, pos: Pos) -> Declared {
+        let Some(code) = self.cell_format(sheet, pos) else { return Declared::Variant };
+        if crate::eval::locale::is_date_code(&code) {
+            Declared::Date
+        } else if code.contains(['$', '€', '£', '¥']) {
+            Declared::Currency
+        } else {
+            Declared::Variant
+        }
     }
 
     /// `Range.Text`: the first cell's value as its number format shows it.

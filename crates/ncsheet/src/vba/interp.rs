@@ -1039,10 +1039,11 @@ impl Interp<'_, '_> {
         // The flag is the last call's or item's, which is this node's own only for these.
         let own = match &self.module.nodes[id as usize] {
             Node::Call { .. } | Node::Element { .. } | Node::Index { .. } => true,
+            // `Cells(r, c).Value` of a cell formatted as a date or as currency (`formats.rs`).
             Node::Path(path) => path
                 .links
                 .last()
-                .is_some_and(|l| l.name.eq_ignore_ascii_case("item") || l.name.eq_ignore_ascii_case("filedatetime")),
+                .is_some_and(|l| ["item", "filedatetime", "value"].iter().any(|n| l.name.eq_ignore_ascii_case(n))),
             _ => false,
         };
         let gave = self.gave.get();

@@ -820,6 +820,7 @@ pub fn run(
 ) -> Result<RunOutput, MacroError> {
     let module = parse_with(source, file_name, workbook, options)?;
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
+    udf::install_run_functions(workbook, own, source, options);
     let (joined, parts) = join_project(own, source, &options.project, &options.classes);
     let source = joined.as_deref().unwrap_or(source);
     interp::run(&module, workbook, source, file_name, options).map_err(|mut e| {

@@ -17,6 +17,7 @@ use super::ast::{Link, Node, Path, Span, Ty};
 use super::interp::{Interp, Run, XL_A1, XL_R1C1};
 use super::object_model::RangeSet;
 use super::sheet_ops::{visibility_value, Direction};
+use super::typing::Declared;
 use super::value::{print_text, Obj, Var};
 
 /// The cell `index` picks in `rect` (1-based): `(i)` counts row by row, `(i, j)` is row and
@@ -641,7 +642,12 @@ impl Interp<'_, '_> {
         let name = lower(link);
         match name.as_str() {
             // A whole column is all its 1,048,576 rows, not the used part (`whole_array`).
-            "value" | "value2" => value(super::value::whole_array(ctx.rect_value(sheet, rect)).unwrap_single()),
+            "value" | "value2" => {
+                let v = super::value::whole_array(ctx.rect_value(sheet, rect)).unwrap_single();
+                let typed = matches!(v, Value::Number(_)) && name == "value" && rect.first == rect.last;
+                self.gave.set(if typed { self.cell_value_type(sheet, rect.first) } else { Declared::Variant });
+                value(v)
+            }
             "formula" => value(self.formulas(sheet, rect, false)),
             "hasformula" => value(self.has_formula(sheet, rect)),
             "formulalocal" => value(self.formulas_local(sheet, rect)),

@@ -162,7 +162,8 @@ pub fn parse_module_with_files(
                 out.procs.push(p);
             }
             Rule::dim_stmt | Rule::const_stmt => {
-                let part = b.part_at(start(&item));
+                let at = start(&item);
+                let part = b.part_at(at);
                 b.current_part.set(part);
                 let public = item.as_str().trim_start().get(..6).is_some_and(|w| w.eq_ignore_ascii_case("public"));
                 b.building_globals.set(true);
@@ -172,6 +173,7 @@ pub fn parse_module_with_files(
                     // A class module's own variables: each of its objects has them.
                     Some(class) => {
                         if public {
+                            refuse_public_in_object_module(&s, at)?;
                             class.public.extend(declared_names(&s));
                         }
                         class.fields.push(s);
@@ -2087,6 +2089,34 @@ fn property_kind(pair: &Pair<Rule>) -> Option<PropertyKind> {
         "let" => PropertyKind::Let,
         _ => PropertyKind::Set,
     })
+}
+
+/// VBA's compile error for a class module's Public constant, array, fixed-length string or
+/// user-defined Type ("Constants, fixed-length strings, arrays, user-defined types, and
+/// Declare statements not allowed as Public members of an object module": a class models
+/// them with Property procedures). `Public Items() As Double` in a .cls does not compile.
+fn refuse_public_in_object_module(stmt: &Stmt, offset: usize) -> Res<()> {
+    let what = match &stmt.kind {
+        StmtKind::Const(items) => items.first().map(|(n, ..)| format!("the constant {n}")),
+        StmtKind::Dim(vars) => vars.iter().find_map(|v| match (&v.bounds, &v.ty) {
+            (Some(_), _) => Some(format!("the array {}", v.name)),
+            (_, Some(Ty::FixedString(_))) => Some(format!("the fixed-length string {}", v.name)),
+            (_, Some(Ty::Record(_))) => Some(format!("{}, of a user-defined type,", v.name)),
+            _ => None,
+        }),
+        _ => None,
+    };
+    match what {
+        Some(what) => Err(ParseError {
+            offset,
+            message: format!(
+                "{what} cannot be a Public member of a class module: Constants, fixed-length strings, arrays, \
+                 user-defined types and Declare statements not allowed as Public members of object modules \
+                 (VBA's compile error; declare it Private and give it Property procedures)"
+            ),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The names a module-level `Dim` or `Const` declares, lower case.

@@ -71,6 +71,34 @@ pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOp
     errors
 }
 
+/// Makes the public Functions of the macro about to run, and of the modules given with it,
+/// callable from the workbook's cells while it runs, as Excel calls the Functions of the
+/// project a macro is in: `Range("D1").Formula = "=Coalesce(A1, B1)"` computes through the
+/// module's `Coalesce`. A workbook that has functions of its own (an .xlsm's) keeps them; a
+/// project without a public Function installs nothing.
+pub(super) fn install_run_functions(wb: &mut Workbook, own: &str, source: &str, options: &RunOptions) {
+    if wb.user_functions().is_some() || options.document.is_some() {
+        return;
+    }
+    let module = |name: &str, source: &str, kind| super::project::ProjectModule {
+        name: name.to_string(),
+        stream: name.to_string(),
+        kind,
+        source: source.to_string(),
+    };
+    let mut modules = vec![module(own, source, ModuleKind::Standard)];
+    modules.extend(options.project.iter().map(|(n, s)| module(n, s, ModuleKind::Standard)));
+    modules.extend(options.classes.iter().map(|(n, s)| module(n, s, ModuleKind::Class)));
+    if !modules.iter().any(|m| !m.function_names().is_empty()) {
+        return;
+    }
+    let project = VbaProject { code_page: 65001, modules, protection: None };
+    let (functions, _) = WorkbookFunctions::new(&project, wb, options.clone());
+    if functions.modules.iter().any(|m| m.callable.iter().any(Option::is_some)) {
+        wb.set_user_functions(Rc::new(functions));
+    }
+}
+
 impl WorkbookFunctions {
     pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
         // The look is built once here; the options each module keeps need not carry it.

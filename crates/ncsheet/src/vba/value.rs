@@ -76,6 +76,22 @@ impl VArray {
         }
     }
 
+    /// Its items and what it holds beside them (arrays, objects, records) that it alone holds,
+    /// to be let go one after another (`classes::let_go`).
+    pub(super) fn into_parts(self) -> (Rc<Array>, Vec<Var>) {
+        let mut parts = Vec::new();
+        if let Some(arrays) = self.arrays.and_then(|a| Rc::try_unwrap(a).ok()) {
+            parts.extend(arrays.into_values().map(Var::Array));
+        }
+        if let Some(objects) = self.objects.and_then(|o| Rc::try_unwrap(o).ok()) {
+            parts.extend(objects.into_values().map(Var::Obj));
+        }
+        if let Some(records) = self.records.and_then(|r| Rc::try_unwrap(r).ok()) {
+            parts.extend(records);
+        }
+        (self.data, parts)
+    }
+
     /// A one-dimensional array of `data`'s one row, from `lower`, holding plain values.
     pub fn row(data: Rc<Array>, lower: i64) -> VArray {
         VArray::plain(data, (1, lower), 1)
@@ -336,6 +352,29 @@ enum Held {
     GrowingItem(GrowingItem),
 }
 
+/// What a variable held is let go through `classes::let_go` when the variable dies or is
+/// given another value: arrays within arrays (`a = Array(a)` a million times), and objects or
+/// Collections holding arrays that hold the next, are let go one link after another. Dropped
+/// each inside the one holding it, such a chain overflowed the native stack.
+impl Drop for Held {
+    fn drop(&mut self) {
+        let var = match self {
+            Held::Var(var) => std::mem::replace(var, Var::Value(Value::Blank)),
+            Held::Growing(_) => return,
+            Held::GrowingItem(item) => match item.array.get_mut().take() {
+                Some(array) => Var::Array(array),
+                None => match item.text.shown.take() {
+                    Some(var) => var,
+                    None => return,
+                },
+            },
+        };
+        if !matches!(var, Var::Value(Value::Number(_) | Value::Blank | Value::Bool(_) | Value::Text(_))) {
+            super::classes::let_go(vec![var]);
+        }
+    }
+}
+
 /// A text variable that `s = s & …` appends to (`append.rs`): a value's text is an `Rc<str>`,
 /// which cannot grow, so each append copied the whole text and a loop of them was quadratic.
 /// The buffer doubles its capacity as it grows; the value is made from it when the variable
@@ -473,8 +512,11 @@ impl Slot {
         let Value::Text(t) = item else { unreachable!("a text, checked above") };
         let text = Growing::of(&t, t.encode_utf16().count());
         let units = text.units;
-        let taken = std::mem::replace(&mut self.held, Held::Var(Var::Value(Value::Blank)));
-        let Held::Var(Var::Array(array)) = taken else { unreachable!("an array, checked above") };
+        let mut taken = std::mem::replace(&mut self.held, Held::Var(Var::Value(Value::Blank)));
+        let Held::Var(var) = &mut taken else { unreachable!("an array, checked above") };
+        let Var::Array(array) = std::mem::replace(var, Var::Value(Value::Blank)) else {
+            unreachable!("an array, checked above")
+        };
         self.held = Held::GrowingItem(GrowingItem { array: std::cell::RefCell::new(Some(array)), k, text });
         Some(units)
     }
