@@ -404,15 +404,16 @@ impl Interp<'_, '_> {
 
     /// The digits a LongLong `v`, the value of `e`, shows as a String (CStr, Str, Format,
     /// Print, `&`, [MS-VBAL] 5.5.1.2.4: a number's decimal text): every one, where a
-    /// double's 15 significant digits would round it or show an exponent; a Decimal's every
-    /// digit too ("Decimal data type", `typing/decimal.rs`). `None` for any other value,
-    /// shown as a double.
+    /// double's 15 significant digits would round it or show an exponent; a Decimal's and a
+    /// Currency's every digit too ("Decimal data type", `typing/decimal.rs`; "Currency data
+    /// type", its integer of ten-thousandths), which Round rounds as they are written.
+    /// `None` for any other value, shown as a double.
     pub(super) fn long_long_text(&self, e: &Expr, v: &Value) -> Option<String> {
         match v {
             Value::Number(n) if n.abs() >= SHOWN_IN_FULL && self.value_type(e, v) == Declared::LongLong => {
                 self.exact_whole(e, v).map(|k| k.to_string())
             }
-            _ => self.decimal_text(e, v),
+            _ => self.decimal_text(e, v).or_else(|| self.currency_text(e, v)),
         }
     }
 

@@ -349,6 +349,33 @@ pub(super) fn names_single_or_currency(source: &str) -> bool {
         || [&b"single"[..], b"currency", b"csng", b"ccur", b"rnd", b"cdec", b"decimal"].into_iter().any(names)
 }
 
+/// The Currency `n` stands for written as a decimal without trailing zeros: the shortest
+/// text that gives the double back, its places past the fourth rounded half to even (a
+/// Currency's ten-thousandths). Read from that text, not from `n * 10000`, which a double past
+/// 2^53 ten-thousandths no longer gives exactly (123456789012345.5 would become
+/// 123456789012345.4976). `None` past the type's range.
+fn currency_digits(n: f64) -> Option<String> {
+    if !n.is_finite() || n.abs() >= 922_337_203_685_477.6 {
+        return None;
+    }
+    let text = format!("{}", n.abs());
+    let (whole, fraction) = text.split_once('.').unwrap_or((&text, ""));
+    let places = format!("{fraction:0<4}");
+    let (kept, rest) = places.split_at(4);
+    let mut scaled: i128 = format!("{whole}{kept}").parse().ok()?;
+    let rest: Vec<u8> = rest.bytes().map(|b| b - b'0').collect();
+    let above_half = rest.first().is_some_and(|&d| d > 5 || (d == 5 && rest[1..].iter().any(|&d| d > 0)));
+    let tie = rest.first() == Some(&5) && rest[1..].iter().all(|&d| d == 0);
+    if above_half || (tie && scaled % 2 == 1) {
+        scaled += 1;
+    }
+    let sign = if n < 0.0 && scaled != 0 { "-" } else { "" };
+    let places = format!("{:04}", scaled % 10_000);
+    let places = places.trim_end_matches('0');
+    let whole = scaled / 10_000;
+    Some(if places.is_empty() { format!("{sign}{whole}") } else { format!("{sign}{whole}.{places}") })
+}
+
 /// `x op y` on Currencies: 64-bit integers of ten-thousandths ("Currency data type"), each
 /// operand made one (four places, halves to even), the product's extra places rounded off
 /// half to even; `None` past the type's range or for an operator that is no `+ - *`.
@@ -740,6 +767,18 @@ impl Interp<'_, '_> {
         match v {
             Value::Number(n) if self.narrow_numbers && self.value_type(e, v) == Declared::Single => {
                 Some(single_shown(*n))
+            }
+            _ => None,
+        }
+    }
+
+    /// The digits of the Currency `v`, the value of `e`: its integer of ten-thousandths
+    /// ("Currency data type") written as a decimal, `[-]whole[.places]`; `None` for any other
+    /// value, and past a Currency's range.
+    pub(super) fn currency_text(&self, e: &Expr, v: &Value) -> Option<String> {
+        match v {
+            Value::Number(n) if self.narrow_numbers && self.value_type(e, v) == Declared::Currency => {
+                currency_digits(*n)
             }
             _ => None,
         }

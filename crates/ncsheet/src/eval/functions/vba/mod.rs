@@ -748,10 +748,12 @@ fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 /// "Round function": a negative number of decimal places is run-time error 5. A macro's
-/// Decimal rounds its own digits to even (`round_decimal_text`).
+/// Decimal or Currency rounds its own digits to even (`round_decimal_text`): both are scaled
+/// integers ("Decimal data type", "Currency data type"), so `Round(CCur(1.015), 2)` is a tie
+/// that goes to 1.02, where the double 1.015 lies below the tie.
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
-    let decimal = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
+    let exact = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
     let raised = Raised::default();
     let result = lift_vba_values(ctx, values, "Round", FIRST, &|v| {
         let x = vba_number(&v[0])?;
@@ -765,7 +767,7 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if digits.trunc() > 22.0 {
             return Err(XlError::Value);
         }
-        if let Some(rounded) = decimal.as_deref().and_then(|t| round_decimal_text(t, digits.trunc() as u32)) {
+        if let Some(rounded) = exact.as_deref().and_then(|t| round_decimal_text(t, digits.trunc() as u32)) {
             return Ok(Value::Number(rounded));
         }
         let scale = 10f64.powi(digits.trunc() as i32);
