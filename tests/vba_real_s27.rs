@@ -43,3 +43,25 @@ fn a_currency_shows_every_digit() {
     );
     assert_eq!(out, ["123456789012345.5|123456789012345.5|-0.0001123456789012346"]);
 }
+
+// YujiFukami/VBA-Approximate-formula ModMatrix.bas (session 26's r10): `TypeName(F_Minverse(B))`
+// of a Function `As Variant` that fills a `Dim Output#()` and returns it. "TypeName function":
+// "if varname is an array of integers, TypeName returns "Integer()""; "VarType function": "the
+// value returned for an array of integers is calculated as vbInteger + vbArray, or 8194".
+// An array keeps its items' type wherever it goes, so a Variant given a `Long()` holds a
+// Long() (8195, vbLong 3 + vbArray 8192), a Function `As Variant` returning a `Double()` gives
+// a Double() (8197), one `As String()` a String(); `Array(…)` makes a Variant() ("Array
+// function": "a Variant containing an array").
+#[test]
+fn an_array_keeps_its_item_type_in_a_variant() {
+    let out = printed(
+        "Function F() As Variant\n    Dim o#()\n    ReDim o(1 To 2)\n    F = o\nEnd Function\n\
+         Function G() As String()\n    Dim s(1) As String\n    G = s\nEnd Function\n",
+        "    Dim a() As Long, v As Variant, w\n\
+         \x20   ReDim a(2)\n\
+         \x20   v = a\n\
+         \x20   w = G()\n\
+         \x20   Debug.Print TypeName(v); VarType(v); TypeName(F()); VarType(F()); TypeName(w); TypeName(Array(1))",
+    );
+    assert_eq!(out, ["Long() 8195 Double() 8197 String()Variant()"]);
+}

@@ -75,6 +75,7 @@ impl Interp<'_, '_> {
         Ok(VArray {
             records,
             shape: (dims.len() > 2).then(|| Rc::from(dims)),
+            item_type: Declared::of_ty(ty),
             ..VArray::plain(data, (lower_row, lower_col), dims.len() as u8)
         })
     }
@@ -764,6 +765,7 @@ fn holds_values(ty: &Ty) -> bool {
 pub(super) fn unallocated(ty: Option<&Ty>) -> Option<VArray> {
     ty.filter(|t| holds_values(t) || matches!(t, Ty::Record(_))).map(|_| VArray {
         records: ty.filter(|t| matches!(t, Ty::Record(_))).map(|_| Rc::new(Vec::new())),
+        item_type: Declared::of_ty(ty),
         ..VArray::plain(Rc::new(Array::filled(0, 0, Value::Blank)), (0, 0), 0)
     })
 }
@@ -840,6 +842,7 @@ pub(super) fn typed_items(mut a: VArray, ty: Option<&Ty>, name: &str) -> Result<
         *item = v;
     }
     a.held_types = None;
+    a.item_type = Declared::of_ty(Some(ty));
     Ok(a)
 }
 

@@ -332,7 +332,7 @@ impl Interp<'_, '_> {
     fn type_name_of(&self, var: &Var, ty: Option<&Ty>) -> String {
         match (var, ty) {
             (Var::Array(_), Some(Ty::Record(i))) => format!("{}()", self.module.types[*i].name),
-            (Var::Array(_), ty) => format!("{}()", Declared::of_ty(ty).name()),
+            (Var::Array(a), ty) => format!("{}()", item_type(a, ty).name()),
             (Var::Record(i, _), _) => self.module.types[*i].name.to_string(),
             // "TypeName function": an object's class, a class module's name for its objects.
             (Var::Obj(Obj::Instance(object)), _) => self.module.classes[object.0.class].name.to_string(),
@@ -424,7 +424,9 @@ impl Interp<'_, '_> {
 
     fn var_type_of_var(&self, var: &Var, ty: Option<&Ty>) -> Run<f64> {
         Ok(match var {
-            Var::Array(_) => VB_ARRAY + ty.and_then(declared_var_type).unwrap_or(VB_VARIANT),
+            Var::Array(a) => {
+                VB_ARRAY + ty.and_then(declared_var_type).or_else(|| a.item_type.var_type()).unwrap_or(VB_VARIANT)
+            }
             Var::Record(..) => 36.0,
             // A Range answers its default property's (Value's) type.
             Var::Obj(Obj::Range(sheet, rect)) => match range_var(self.ctx().rect_value(*sheet, *rect)) {
@@ -570,6 +572,16 @@ fn declared_var_type(ty: &Ty) -> Option<f64> {
         Ty::Record(_) => Some(36.0),
         // An object variable answers what it holds (Nothing 9, a Range its Value's type).
         Ty::Variant | Ty::Object => None,
+    }
+}
+
+/// The type of the items of the array `a` held by a variable of type `ty`: the variable's
+/// declared item type (`Dim a() As Long`), else the one the array keeps from where it was
+/// made (a Variant holding a `Double()`, [`VArray::item_type`]).
+fn item_type(a: &VArray, ty: Option<&Ty>) -> Declared {
+    match Declared::of_ty(ty) {
+        Declared::Variant => a.item_type,
+        declared => declared,
     }
 }
 

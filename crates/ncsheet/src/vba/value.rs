@@ -56,6 +56,11 @@ pub struct VArray {
     /// double is not exact: the integer, by row-major position (`longlong.rs`). Each is used
     /// only while it still stands for its item's double; `None` for almost every array.
     pub(super) exact: Option<Rc<std::collections::HashMap<usize, i64>>>,
+    /// The type its items were declared with (`Dim o() As Double`, a Function `As Long()`),
+    /// which the array keeps wherever it goes: a Variant given it, or a Function `As Variant`
+    /// returning it, holds a `Double()` ("TypeName function", "VarType function": vbArray +
+    /// vbDouble), not a `Variant()`. `Variant` for an array of Variants, objects or records.
+    pub(super) item_type: Declared,
 }
 
 impl VArray {
@@ -73,6 +78,7 @@ impl VArray {
             records: None,
             shape: None,
             exact: None,
+            item_type: Declared::Variant,
         }
     }
 
