@@ -98,7 +98,9 @@ fn print_spaces_numbers_and_zones_as_vba() {
 }
 
 // "Write # statement", its example: items comma-delimited, strings in quotation marks, a
-// blank line for `Write #1,`, Boolean data as #FALSE#, Error data as #ERROR errorcode#.
+// blank line for `Write #1,`, Boolean data as #FALSE#, Error data as #ERROR errorcode#;
+// "Nothing is written to the file if outputlist data is Empty. However, for Null data, #NULL#
+// is written"; dates in the universal format, only the part given when the other is zero.
 #[test]
 fn write_quotes_and_delimits_as_the_reference_page() {
     let text = written(
@@ -109,9 +111,14 @@ fn write_quotes_and_delimits_as_the_reference_page() {
     MyBool = False
     Write #1, MyBool ; \" is a Boolean value\"
     Write #1, True, -1.5, CVErr(2007)
+    Write #1, Null, Empty, #1/2/2020#, #1/2/2020 1:45:00 PM#, #1:45:00 PM#
     Close #1",
     );
-    assert_eq!(text, "\"Hello World\",234\r\n\r\n#FALSE#,\" is a Boolean value\"\r\n#TRUE#,-1.5,#ERROR 2007#\r\n");
+    assert_eq!(
+        text,
+        "\"Hello World\",234\r\n\r\n#FALSE#,\" is a Boolean value\"\r\n#TRUE#,-1.5,#ERROR 2007#\r\n\
+         #NULL#,,#2020-01-02#,#2020-01-02 13:45:00#,#13:45:00#\r\n"
+    );
 }
 
 // "Input # statement": data written with Write # reads back item by item (a quoted string
@@ -246,10 +253,49 @@ fn a_path_out_of_the_sandbox_stops_the_macro_even_under_on_error() {
     );
     assert!(e.message.contains("CreateTextFile \"../x\": refused: "), "{e}");
     let e = fail(
-        "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    fso.CreateTextFile \"u.txt\", Unicode:=True",
+        "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    On Error GoTo 0\n    fso.CreateTextFile \"u.txt\", Encoding:=1",
         &sandbox(&[]),
     );
-    assert!(e.message.contains("CreateTextFile: named arguments (x:=) are not read here"), "{e}");
+    assert!(e.message.contains("Named argument not found (run-time error 448): CreateTextFile:=Encoding"), "{e}");
+    let e = fail(
+        "    Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    x = fso.FolderExists(\"C:\\Windows\")",
+        &sandbox(&[]),
+    );
+    assert!(e.message.contains("FolderExists \"C:\\Windows\": refused: "), "{e}");
+}
+
+// "GetFileName method", "GetBaseName method", "GetExtensionName method",
+// "GetParentFolderName method", "BuildPath method" and "GetDriveName method" work on the path's
+// text alone (the values are those of Wine's scrrun tests, which run against Windows' own
+// scrrun.dll too). "CreateTextFile method": `Unicode:=True` writes UTF-16 (little-endian, with
+// its byte-order mark); "OpenTextFile method": its parameters are filename, iomode, create and
+// format, here given by name. "FolderExists method": the folder the workbook is in exists.
+#[test]
+fn filesystemobject_names_paths_and_takes_named_arguments() {
+    let out = run("Sub Main()
+    Dim fso, ts, p
+    Set fso = CreateObject(\"Scripting.FileSystemObject\")
+    p = fso.BuildPath(ThisWorkbook.Path, \"O1000.tar.nc\")
+    Debug.Print fso.GetFileName(p); \"|\"; fso.GetBaseName(p); \"|\"; fso.GetExtensionName(p)
+    Debug.Print fso.GetParentFolderName(\"C:\\\\cnc\"); \"|\"; fso.GetParentFolderName(\"a/b//\"); \"|\"; fso.GetDriveName(\"D:\\x.nc\")
+    Debug.Print fso.BuildPath(\"C:\", \"x.nc\"); \"|\"; fso.BuildPath(\"C:\\cnc\\\", \"\\x.nc\"); \"|\"; fso.GetBaseName(\".nc\")
+    Debug.Print fso.FolderExists(ThisWorkbook.Path); fso.FolderExists(ThisWorkbook.Path & \"\\sub\")
+    Set ts = fso.CreateTextFile(p, Overwrite:=True, Unicode:=True)
+    ts.WriteLine \"G0\"
+    ts.Close
+    Set ts = fso.OpenTextFile(Filename:=\"plain.nc\", IOMode:=8, Create:=True)
+    ts.Write \"M30\"
+    ts.Close
+End Sub
+");
+    assert_eq!(out.printed, vec!["O1000.tar.nc|O1000.tar|nc", "C:\\|a|D:", "C:x.nc|C:\\cnc\\x.nc|", "TrueFalse"]);
+    assert_eq!(
+        out.files,
+        vec![
+            ("O1000.tar.nc".to_string(), b"\xFF\xFEG\x000\x00\r\x00\n\x00".to_vec()),
+            ("plain.nc".to_string(), b"M30".to_vec()),
+        ]
+    );
 }
 
 // Without --out-dir or --in-file the FileSystemObject is refused when the statement runs, as an

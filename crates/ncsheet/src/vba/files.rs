@@ -450,6 +450,35 @@ fn folder_spelling(dir: &str) -> String {
     }
 }
 
+/// The parameters of a FileSystemObject's or a TextStream's method, in order, as Microsoft's
+/// reference names them ("CreateTextFile method": filename, overwrite, unicode; "OpenTextFile
+/// method": filename, iomode, create, format; …).
+fn file_method_parameters(method: &str) -> &'static [&'static str] {
+    match method {
+        "createtextfile" => &["filename", "overwrite", "unicode"],
+        "opentextfile" => &["filename", "iomode", "create", "format"],
+        "buildpath" => &["path", "name"],
+        "fileexists" | "folderexists" => &["filespec"],
+        "getfilename" | "getbasename" | "getextensionname" | "getparentfoldername" | "getdrivename" => &["path"],
+        "write" | "writeline" => &["string"],
+        "writeblanklines" => &["lines"],
+        _ => &[],
+    }
+}
+
+/// The part of `path` a FileSystemObject method named `method` (lower case) gives.
+fn path_text(method: &str, path: &str) -> String {
+    use super::path_names::{base_name, drive_name, extension_name, file_name, parent_folder_name};
+    let part = match method {
+        "getfilename" => file_name(path),
+        "getbasename" => base_name(path),
+        "getextensionname" => extension_name(path),
+        "getparentfoldername" => parent_folder_name(path),
+        _ => drive_name(path),
+    };
+    part.to_string()
+}
+
 /// A value as `Print #` writes it: numbers with room for a sign before and a space after.
 pub(super) fn print_form(v: &Value) -> String {
     match v {
@@ -460,10 +489,12 @@ pub(super) fn print_form(v: &Value) -> String {
     }
 }
 
-/// A value as `Write #` writes it: strings quoted, numbers bare, `#TRUE#`, `#ERROR 2007#`.
+/// A value as `Write #` writes it: strings quoted, numbers bare, `#TRUE#`, `#ERROR 2007#`,
+/// `#NULL#` ("Write # statement": nothing for Empty, #NULL# for Null).
 fn write_form(v: &Value) -> String {
     match v {
         Value::Blank => String::new(),
+        Value::Null => "#NULL#".to_string(),
         Value::Text(t) => format!("\"{t}\""),
         Value::Bool(b) => if *b { "#TRUE#" } else { "#FALSE#" }.to_string(),
         Value::Error(e) => format!("#ERROR {}#", error_number(*e).map_or(e.as_str().to_string(), |n| n.to_string())),
@@ -1199,12 +1230,7 @@ impl Interp<'_, '_> {
     /// A member of the FileSystemObject or of a TextStream.
     pub(super) fn file_member(&self, ctx: &mut Ctx, obj: FileObj, link: &Link) -> Run<Obj> {
         let name = super::objects::lower(link);
-        if link.args.iter().flatten().any(|a| a.name.is_some()) {
-            // Taken by position they would be read as other arguments: refused, never guessed.
-            let why = "named arguments (x:=) are not read here: pass them by position";
-            return Err(self.fault_at(link.span, format!("{}: {why}", link.name)));
-        }
-        let args = self.values(ctx, link)?;
+        let args = self.arranged_values(ctx, link, &name)?;
         let span = link.span;
         let text_arg = |i: usize| args.get(i).map(print_text).unwrap_or_default();
         let flag = |i: usize, default: bool| match args.get(i) {
@@ -1248,6 +1274,14 @@ impl Interp<'_, '_> {
                 let unicode = unicode || self.files.borrow().written[file].1.starts_with(&[0xFF, 0xFE]);
                 self.new_stream(name, Way::Write { file, column: self.end_column(file), unicode }, span)
             }
+            (
+                FileObj::System,
+                "getfilename" | "getbasename" | "getextensionname" | "getparentfoldername" | "getdrivename",
+            ) => Ok(Obj::Value(Value::text(path_text(&name, &text_arg(0))))),
+            (FileObj::System, "buildpath") => {
+                Ok(Obj::Value(Value::text(super::path_names::build_path(&text_arg(0), &text_arg(1)))))
+            }
+            (FileObj::System, "folderexists") => Ok(Obj::Value(Value::Bool(self.folder_exists(&text_arg(0), span)?))),
             (FileObj::System, "fileexists") => {
                 let name = self.sandbox_name("FileExists", &text_arg(0), span)?;
                 Ok(Obj::Value(Value::Bool(self.exists(&name, span)?)))
@@ -1324,6 +1358,49 @@ impl Interp<'_, '_> {
         let mut files = self.files.borrow_mut();
         files.streams.push(Some(Channel { name, way }));
         Ok(Obj::Files(FileObj::Stream(files.streams.len() - 1)))
+    }
+
+    /// A FileSystemObject or TextStream method's arguments in the order of its parameters:
+    /// `fso.CreateTextFile(p, Overwrite:=True)` as `fso.CreateTextFile(p, True)`. A name the
+    /// method does not have is VBA's error 448, "Named argument not found".
+    fn arranged_values(&self, ctx: &mut Ctx, link: &Link, method: &str) -> Run<Vec<Value>> {
+        let args = link.args.as_deref().unwrap_or(&[]);
+        if args.iter().all(|a| a.name.is_none()) {
+            return self.values(ctx, link);
+        }
+        let parameters = file_method_parameters(method);
+        let mut out = vec![Value::Blank; args.len().max(parameters.len())];
+        for (i, arg) in args.iter().enumerate() {
+            let at = match &arg.name {
+                None => i,
+                Some(n) => parameters.iter().position(|p| p.eq_ignore_ascii_case(n)).ok_or_else(|| {
+                    let mut f = self.fault_at(
+                        link.span,
+                        format!("Named argument not found (run-time error 448): {}:={n}", link.name),
+                    );
+                    f.code = 448;
+                    f
+                })?,
+            };
+            out[at] = ctx.eval(&arg.value).unwrap_single();
+            self.take_pending()?;
+        }
+        while out.last().is_some_and(|v| matches!(v, Value::Blank)) {
+            out.pop();
+        }
+        Ok(out)
+    }
+
+    /// `FolderExists(path)`: the output folder exists (as `ThisWorkbook.Path` spells it, or
+    /// with a separator after it); the sandbox has no other folder, so a name inside it is
+    /// False, and any other path is refused by name as a file's would be.
+    fn folder_exists(&self, path: &str, span: Span) -> Run<bool> {
+        let folder = self.access().out_dir.as_deref().map(folder_spelling);
+        if folder.is_some_and(|f| path.trim_end_matches(['\\', '/']) == f.trim_end_matches(['\\', '/'])) {
+            return Ok(true);
+        }
+        self.sandbox_name("FolderExists", path, span)?;
+        Ok(false)
     }
 
     /// Whether a file of the sandbox exists: written this run, listed, or in the folder (and

@@ -288,6 +288,7 @@ mod operators;
 pub mod ovba;
 mod param_array;
 pub mod parser;
+mod path_names;
 pub mod project;
 pub mod project_edit;
 mod regexp;
