@@ -9,7 +9,10 @@ use crate::formula::ast::*;
 use super::coerce::{compare, to_number, to_text};
 use super::dates::DateSystem;
 use super::functions::{self, FnKind};
-use super::value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult};
+use super::value::{
+    held_items, too_many_items, too_many_items_note, too_many_live_items_note, Array, Value, XlError, XlResult,
+    MAX_LIVE_ITEMS,
+};
 
 /// What the evaluator reads: cell values, defined names and sheet facts. The workbook
 /// implements it; tests and macro code may implement it over anything.
@@ -151,6 +154,12 @@ pub trait Env {
     /// `Settings::lambda_work`): [`MAX_LAMBDA_WORK`] unless a test asks for less.
     fn lambda_work_limit(&self) -> u64 {
         MAX_LAMBDA_WORK
+    }
+
+    /// The array items one formula may hold at once (the workbook's `Settings::live_items`):
+    /// [`MAX_LIVE_ITEMS`] unless a test asks for less.
+    fn live_items_limit(&self) -> usize {
+        MAX_LIVE_ITEMS
     }
 
     /// The language of the Excel that saved the workbook, when the file says and it is not
@@ -361,6 +370,11 @@ impl Closure {
     pub fn lambda(&self) -> functions::Lambda<'_> {
         functions::as_lambda(&self.lambda).expect("a closure holds a LAMBDA")
     }
+
+    /// The values of the names it captured, which it keeps alive.
+    pub fn captured(&self) -> impl Iterator<Item = &Value> {
+        self.locals.iter().map(|l| &l.value)
+    }
 }
 
 /// Lets the LAMBDA that LET binds to `name` call itself by that name (a LAMBDA made for the
@@ -431,6 +445,10 @@ pub struct Ctx<'a> {
     /// References made at run time (INDIRECT, OFFSET) that the formula's text does not name:
     /// the workbook links the cell to them after evaluation.
     pub dynamic_refs: Vec<(SheetId, Rect)>,
+    /// The array items this evaluation holds now, against [`MAX_LIVE_ITEMS`]: every array
+    /// made or read is added; a call, an operator or a LAMBDA's body, once it returns, holds
+    /// only its result ([`Ctx::held_result`]).
+    held: usize,
 }
 
 /// [`Env::for_each_number_in`] through [`Env::for_each_value`], for any environment.
@@ -543,6 +561,7 @@ impl<'a> Ctx<'a> {
             notes: Vec::new(),
             numbers: &[],
             dynamic_refs: Vec::new(),
+            held: 0,
         }
     }
 
@@ -709,7 +728,65 @@ impl<'a> Ctx<'a> {
         if too_many_items(rows, cols) {
             return Err(self.explain_once(XlError::Num, too_many_items_note(rows, cols)));
         }
+        self.room_to_hold(rows * cols)
+    }
+
+    /// `Ok` when `items` more array items fit in what this evaluation may hold at once
+    /// ([`MAX_LIVE_ITEMS`]), else `#NUM!` with the limit's note.
+    fn room_to_hold(&mut self, items: usize) -> XlResult<()> {
+        let limit = self.env.live_items_limit();
+        if self.held.saturating_add(items) > limit {
+            return Err(self.explain_once(XlError::Num, too_many_live_items_note(limit)));
+        }
         Ok(())
+    }
+
+    /// The array items held so far (see [`MAX_LIVE_ITEMS`]), for [`Ctx::release_to`].
+    pub fn held_mark(&self) -> usize {
+        self.held
+    }
+
+    /// Ends a stretch of evaluation begun when `mark` items were held: what it made is gone
+    /// but `kept`. For a function that drops what it made before returning: REDUCE its last
+    /// accumulator, SUM each argument once summed.
+    pub fn release_to(&mut self, mark: usize, kept: &Value) {
+        self.held = mark.saturating_add(held_items(kept));
+    }
+
+    /// `v`, the result of a call, operator or LAMBDA body begun when `mark` items were held:
+    /// what it made besides `v` is gone, `v` is held. `#NUM!` with the limit's note when `v`
+    /// does not fit ([`MAX_LIVE_ITEMS`]).
+    #[inline]
+    fn held_result(&mut self, mark: usize, v: Value) -> Value {
+        self.held = mark;
+        match v {
+            Value::Array(_) | Value::Lambda(_) => self.hold(v),
+            v => v,
+        }
+    }
+
+    /// [`Ctx::held_result`] of an array or a LAMBDA, out of line.
+    #[inline(never)]
+    fn hold(&mut self, v: Value) -> Value {
+        let items = held_items(&v);
+        match self.room_to_hold(items) {
+            Ok(()) => {
+                self.held += items;
+                v
+            }
+            Err(e) => Value::Error(e),
+        }
+    }
+
+    /// [`Ctx::held_result`] of an operand: a reference holds nothing yet.
+    fn held_operand(&mut self, mark: usize, operand: Operand) -> Operand {
+        match operand {
+            Operand::Value(v) => Operand::Value(self.held_result(mark, v)),
+            operand => {
+                self.held = mark;
+                operand
+            }
+        }
     }
 
     /// The most items an array may hold here: a macro's `--max-array-items`, else
@@ -767,12 +844,12 @@ impl<'a> Ctx<'a> {
                 self.deref(operand)
             }
             ExprKind::Ref(r) => match self.resolve(r) {
-                Ok((sheet, rect)) => self.rect_value(sheet, rect),
+                Ok((sheet, rect)) => self.held_range(sheet, rect),
                 Err(err) => Value::Error(err),
             },
             ExprKind::Paren(inner) => self.eval(inner),
             ExprKind::Array(lit) => self.array_literal(lit),
-            ExprKind::Unary(op, inner) => self.unary(*op, inner),
+            ExprKind::Unary(op, inner) => self.held_unary(*op, inner),
             ExprKind::Binary(BinOp::Range | BinOp::Intersect | BinOp::Union, ..)
             | ExprKind::Name(_)
             | ExprKind::SheetName(..)
@@ -789,25 +866,62 @@ impl<'a> Ctx<'a> {
                         None => v,
                     }
                 }
-                (x, y) => {
-                    let a = x.map_or_else(|| self.eval(left), Value::Number);
-                    let b = y.map_or_else(|| self.eval(right), Value::Number);
-                    match (&a, &b, self.host) {
-                        // Numbers from names, parentheses and calls (a surface's `(x/50)^2`):
-                        // no locale to read them in, no array or text to count or limit.
-                        (Value::Number(x), Value::Number(y), None) if *op != BinOp::Concat => {
-                            scalar_binary_numbers(*op, *x, *y)
-                        }
-                        _ => self.binary_of_values(*op, (left, right), a, b),
-                    }
-                }
+                (x, y) => self.binary_of_operands(*op, (left, right), (x, y)),
             },
             ExprKind::Call(id, args) => self.call(*id, args),
-            ExprKind::UnknownCall(name, args) => self.call_defined_lambda(name, args),
-            ExprKind::Invoke(callee, args) => self.invoke(callee, args),
+            ExprKind::UnknownCall(name, args) => self.held_call_of_name(name, args),
+            ExprKind::Invoke(callee, args) => self.held_invoke(callee, args),
             // A parameter list's, never evaluated (LAMBDA alone is #CALC!).
             ExprKind::OptionalParam(_) => Value::Error(XlError::Value),
         }
+    }
+
+    /// `op` on its operands `left` and `right`, those that are numbers in registers already
+    /// given (`x`, `y`); the operands are held ([`MAX_LIVE_ITEMS`]) until the result is made.
+    /// Out of [`Ctx::eval`], whose frame every macro expression's nesting pays for.
+    #[inline(never)]
+    fn binary_of_operands(
+        &mut self,
+        op: BinOp,
+        (left, right): (&Expr, &Expr),
+        (x, y): (Option<f64>, Option<f64>),
+    ) -> Value {
+        let mark = self.held;
+        let a = x.map_or_else(|| self.eval(left), Value::Number);
+        let b = y.map_or_else(|| self.eval(right), Value::Number);
+        match (&a, &b, self.host) {
+            // Numbers from names, parentheses and calls (a surface's `(x/50)^2`):
+            // no locale to read them in, no array or text to count or limit.
+            (Value::Number(x), Value::Number(y), None) if op != BinOp::Concat => scalar_binary_numbers(op, *x, *y),
+            _ => {
+                let v = self.binary_of_values(op, (left, right), a, b);
+                self.held_result(mark, v)
+            }
+        }
+    }
+
+    /// A prefix or postfix operator's value, holding only its result ([`Ctx::held_result`]).
+    #[inline(never)]
+    fn held_unary(&mut self, op: UnaryOp, inner: &Expr) -> Value {
+        let mark = self.held;
+        let v = self.unary(op, inner);
+        self.held_result(mark, v)
+    }
+
+    /// [`Ctx::call_defined_lambda`], holding only its result ([`Ctx::held_result`]).
+    #[inline(never)]
+    fn held_call_of_name(&mut self, name: &str, args: &[Expr]) -> Value {
+        let mark = self.held;
+        let v = self.call_defined_lambda(name, args);
+        self.held_result(mark, v)
+    }
+
+    /// [`Ctx::invoke`], holding only its result ([`Ctx::held_result`]).
+    #[inline(never)]
+    fn held_invoke(&mut self, callee: &Expr, args: &[Expr]) -> Value {
+        let mark = self.held;
+        let v = self.invoke(callee, args);
+        self.held_result(mark, v)
     }
 
     /// `op` on evaluated operands, in the workbook's locale, with a macro's typing and the
@@ -915,7 +1029,11 @@ impl<'a> Ctx<'a> {
             ExprKind::Binary(BinOp::Union, a, b) => self.union_operand(a, b),
             ExprKind::Unary(UnaryOp::Spill, inner) => self.spill_operand(inner),
             ExprKind::Call(id, args) => match functions::spec(*id).kind {
-                FnKind::Ref(f) => f(self, args),
+                FnKind::Ref(f) => {
+                    let mark = self.held;
+                    let operand = f(self, args);
+                    self.held_operand(mark, operand)
+                }
                 FnKind::Value(_) => Operand::Value(self.call(*id, args)),
             },
             _ => Operand::Value(self.eval(e)),
@@ -926,7 +1044,7 @@ impl<'a> Ctx<'a> {
     pub fn deref(&mut self, operand: Operand) -> Value {
         match operand {
             Operand::Value(v) => v,
-            Operand::Ref(sheet, rect) => self.rect_value(sheet, rect),
+            Operand::Ref(sheet, rect) => self.held_range(sheet, rect),
             // `=(A1,B1)`: several areas are no one value (Excel's #VALUE!).
             Operand::Areas(_) => Value::Error(XlError::Value),
         }
@@ -954,9 +1072,26 @@ impl<'a> Ctx<'a> {
         r.resolve(self.sheet, self.at).ok_or(XlError::Ref)
     }
 
+    /// [`Ctx::rect_value`], held by this evaluation: a range read whose items would not fit
+    /// in what it may hold at once ([`MAX_LIVE_ITEMS`]) is `#NUM!` with the limit's note,
+    /// before anything is allocated (`B1:XFC1048575*1` asked for 412 GB).
+    fn held_range(&mut self, sheet: SheetId, rect: Rect) -> Value {
+        if rect.is_cell() {
+            return self.env.value(sheet, rect.first);
+        }
+        let stored = self.clip_to_used(sheet, rect);
+        if let Err(e) = self.room_to_hold(stored.rows() as usize * stored.cols() as usize) {
+            return Value::Error(e);
+        }
+        let v = self.rect_value(sheet, rect);
+        self.held += held_items(&v);
+        v
+    }
+
     /// A rectangle's values: one cell's value, or an array whose items are stored as far
     /// as the used area (a whole column reads as far down as the sheet has data) and whose
-    /// tail, the rest of the rectangle, is blank.
+    /// tail, the rest of the rectangle, is blank. More than [`MAX_LIVE_ITEMS`] stored items
+    /// are `#NUM!`, never an allocation of gigabytes ([`Ctx::held_range`] says why).
     pub fn rect_value(&self, sheet: SheetId, rect: Rect) -> Value {
         if rect.is_cell() {
             return self.env.value(sheet, rect.first);
@@ -964,6 +1099,9 @@ impl<'a> Ctx<'a> {
         let whole = rect;
         let rect = self.clip_to_used(sheet, rect);
         let (rows, cols) = (rect.rows() as usize, rect.cols() as usize);
+        if rows.saturating_mul(cols) > MAX_LIVE_ITEMS {
+            return Value::Error(XlError::Num);
+        }
         self.charge(rows * cols);
         let mut data = vec![Value::Blank; rows * cols];
         self.env.for_each_value(sheet, rect, &mut |p, v| {
@@ -1032,7 +1170,9 @@ impl<'a> Ctx<'a> {
         let bound = bound.map(|(name, value)| Local { name: name.clone(), value: value.clone(), omitted: false });
         let bound: Vec<Local> = bound.collect();
         self.iterating += 1;
+        let mark = self.held;
         let out = self.run_closure(closure, bound);
+        let out = self.held_result(mark, out);
         self.iterating -= 1;
         Ok(out)
     }
@@ -1152,6 +1292,7 @@ impl<'a> Ctx<'a> {
 
     /// Calls a registered function by id with unevaluated arguments.
     pub fn call(&mut self, id: FnId, args: &[Expr]) -> Value {
+        let mark = self.held;
         let v = match functions::spec(id).kind {
             FnKind::Value(f) => f(self, args).unwrap_or_else(Value::Error),
             FnKind::Ref(f) => {
@@ -1161,17 +1302,22 @@ impl<'a> Ctx<'a> {
         };
         match v {
             // A finite number, the usual result, needs neither check: no call on this path.
-            Value::Number(n) if is_normal_or_zero(n) => v,
-            v => self.checked_result(v),
+            Value::Number(n) if is_normal_or_zero(n) => {
+                self.held = mark;
+                v
+            }
+            v => self.checked_result(mark, v),
         }
     }
 
     /// [`Ctx::call`]'s checks of a result that is not a plain number: infinities, NaN and
-    /// subnormals made Excel's, texts held to the limit.
+    /// subnormals made Excel's, texts held to the limit, arrays to what the evaluation may
+    /// hold at once (the call began when `mark` items were held).
     #[inline(never)]
-    fn checked_result(&mut self, v: Value) -> Value {
+    fn checked_result(&mut self, mark: usize, v: Value) -> Value {
         self.charge(work_of(&v));
-        self.within_text_limit(finite_numbers(v))
+        let v = self.within_text_limit(finite_numbers(v));
+        self.held_result(mark, v)
     }
 
     fn name_operand(&mut self, name: &str) -> Operand {

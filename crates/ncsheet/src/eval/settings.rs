@@ -25,6 +25,10 @@ pub struct Settings {
     /// formula; `None`: ncsheet's limit, `MAX_LAMBDA_WORK` (docs/limits.md). A smaller budget
     /// lets a test show what is charged without doing 2^28 items of work.
     pub lambda_work: Option<u64>,
+    /// The array items one formula may hold at once; `None`: ncsheet's limit,
+    /// `MAX_LIVE_ITEMS` (docs/limits.md). A smaller one lets a test show what is held
+    /// without holding gigabytes.
+    pub live_items: Option<usize>,
 }
 
 /// VBA's `Rnd` generator, as Microsoft's KB 231847 gives it: x1 = (x0 × 1140671485 +
@@ -139,6 +143,11 @@ impl Settings {
     /// The work the LAMBDAs of MAP, REDUCE, … may do in one formula (see [`Settings::lambda_work`]).
     pub fn lambda_work_limit(&self) -> u64 {
         self.lambda_work.unwrap_or(super::evaluator::MAX_LAMBDA_WORK)
+    }
+
+    /// The array items one formula may hold at once (see [`Settings::live_items`]).
+    pub fn live_items_limit(&self) -> usize {
+        self.live_items.unwrap_or(super::value::MAX_LIVE_ITEMS)
     }
 
     /// The next number 0 ≤ x < 1 of the sequence, with 53 random bits (xorshift64*).

@@ -44,6 +44,44 @@ pub fn too_many_items_note(rows: usize, cols: usize) -> String {
     format!("an array of {rows} × {cols} items, more than ncsheet's limit of {MAX_ARRAY_ITEMS}")
 }
 
+/// The most array items one formula's evaluation may hold at once: four arrays at
+/// [`MAX_ARRAY_ITEMS`], about 1.5 GiB. Each array passing its own limit is not enough: a
+/// function's arguments, an operator's operands and LET's names are all held until it
+/// returns, and `HSTACK` of twelve `SEQUENCE(1048576,16)` asked for 4.5 GiB. Counted by the
+/// evaluator ([`held_items`]); past it the formula is `#NUM!` (docs/limits.md).
+pub const MAX_LIVE_ITEMS: usize = 1 << 26;
+
+/// The note of a formula whose arrays held at once would pass `limit` items.
+pub fn too_many_live_items_note(limit: usize) -> String {
+    format!(
+        "the arrays this formula holds at once (a function's arguments, an operator's operands, LET's names) \
+         would pass {limit} items, ncsheet's limit"
+    )
+}
+
+/// The items `v` holds in arrays that nothing else holds, as [`MAX_LIVE_ITEMS`] counts them:
+/// an array's stored items, a text item two more and one per 24 bytes of its text (an item
+/// is 24 bytes, and a text a block of its own); a LAMBDA, the arrays only it keeps alive (the
+/// LET names it captured, after the LET returned). An array shared with another holder (a LET
+/// name, a captured name, a macro's variable, a cell) takes no memory of its own: its holder
+/// counts it.
+pub fn held_items(v: &Value) -> usize {
+    match v {
+        Value::Array(a) if Rc::strong_count(a) == 1 => a.data.iter().map(item_weight).sum(),
+        Value::Lambda(closure) if Rc::strong_count(closure) == 1 => closure.captured().map(held_items).sum(),
+        _ => 0,
+    }
+}
+
+/// One item of an array, as [`held_items`] counts it.
+#[inline]
+fn item_weight(v: &Value) -> usize {
+    match v {
+        Value::Text(t) => 3 + t.len() / 24,
+        _ => 1,
+    }
+}
+
 /// The most bytes of text the items of one array a formula makes may hold together: the
 /// item limit alone let 2^24 texts of 30,000 characters (`REPT("x",30000)&SEQUENCE(4096,4096)`)
 /// ask for 500 GB. Counted as the items are made, by [`TextBudget`]: 256 MiB.

@@ -339,6 +339,10 @@ impl Env for Probe<'_> {
         self.wb.settings.lambda_work_limit()
     }
 
+    fn live_items_limit(&self) -> usize {
+        self.wb.settings.live_items_limit()
+    }
+
     fn locale(&self) -> crate::eval::Locale {
         self.wb.settings.locale_in_force(self.wb.date_system())
     }

@@ -1256,6 +1256,10 @@ impl Env for Workbook {
         self.settings.lambda_work_limit()
     }
 
+    fn live_items_limit(&self) -> usize {
+        self.settings.live_items_limit()
+    }
+
     fn locale(&self) -> crate::eval::Locale {
         self.settings.locale_in_force(self.date_system())
     }

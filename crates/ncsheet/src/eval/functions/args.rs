@@ -212,8 +212,11 @@ pub fn for_each_value(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(&Value, So
         if a.kind == ExprKind::Missing {
             continue;
         }
+        // Each argument is visited and let go: the next one does not count it as held.
+        let mark = ctx.held_mark();
         let operand = ctx.operand(a);
         for_each_value_of(ctx, operand, f)?;
+        ctx.release_to(mark, &Value::Blank);
     }
     Ok(())
 }
@@ -286,6 +289,8 @@ pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> 
         if a.kind == ExprKind::Missing {
             continue;
         }
+        // Each argument is summed and let go: the next one does not count it as held.
+        let mark = ctx.held_mark();
         match ctx.operand(a) {
             // A range, what aggregates read most: its numbers straight from the cells.
             Operand::Ref(sheet, rect) => {
@@ -308,6 +313,7 @@ pub fn for_each_number(ctx: &mut Ctx, args: &[Expr], f: &mut dyn FnMut(f64)) -> 
                 Ok(())
             })?,
         }
+        ctx.release_to(mark, &Value::Blank);
     }
     Ok(())
 }

@@ -156,8 +156,11 @@ fn reduce(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let (mut acc, items) = accumulation(ctx, args)?;
     within_calls(ctx, items.data.len())?;
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
+        // Each step's accumulator replaces the last: only one is held at a time.
+        let mark = ctx.held_mark();
         for v in &items.data {
             acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
+            ctx.release_to(mark, &acc);
         }
         Ok(acc)
     })
@@ -169,8 +172,10 @@ fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     with_lambda(ctx, &args[args.len() - 1], |ctx, lambda| {
         let mut data = Vec::with_capacity(items.data.len());
         let mut text = TextBudget::default();
+        let mark = ctx.held_mark();
         for v in &items.data {
             acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
+            ctx.release_to(mark, &acc);
             push_item(ctx, &mut data, &mut text, as_item(acc.clone()))?;
         }
         Ok(array(items.rows, items.cols, data))
