@@ -184,9 +184,11 @@ impl Interp<'_, '_> {
         let mut store = h.0.borrow_mut();
         let count = store.len();
         store.capacity = grown(store.capacity, count + 1);
-        store.insert(at, None, item);
+        let moved = store.insert(at, None, item);
         let place = store.place_of(at);
         store.set_held(place, held);
+        drop(store);
+        self.count_moved(moved);
         Ok(())
     }
 

@@ -69,6 +69,7 @@ impl Interp<'_, '_> {
             None => Axis::Rows,
         };
         let edit = SheetEdit::cells(rect, axis, insert);
+        self.charge_shift();
         // An edit Excel refuses (cutting an array, pushing cells off the sheet) is its
         // run-time error 1004, "Insert method of Range class failed", which On Error traps.
         self.book_mut()?.shift_cells(sheet, edit).map_err(|e| {
@@ -78,6 +79,19 @@ impl Interp<'_, '_> {
         self.follow_range_objects(sheet, &edit);
         self.follow_selection(sheet, &edit);
         Ok(Obj::Value(Value::Blank))
+    }
+
+    /// Counts an insert or delete against the statement limit by the cells it goes over:
+    /// the workbook's shift reads every cell and rebuilds the graph (`workbook/shift.rs`),
+    /// an item of work a cell and a statement a formula, so `Rows(1).Insert` in a loop over
+    /// a filled sheet, which ran for minutes counting a statement a turn, stops within the
+    /// time the limit stands for.
+    fn charge_shift(&self) {
+        let (cells, formulas) = {
+            let wb = self.wb.borrow();
+            (wb.cell_count(), wb.formula_counts().0)
+        };
+        self.add_work(cells as u64 + formulas as u64 * super::interp::WORK_PER_STATEMENT);
     }
 
     /// The sheet's `Selection` and `ActiveCell` moved with their cells, as Excel's selection

@@ -1382,14 +1382,17 @@ impl Interp<'_, '_> {
     /// array's size (a copy per call made a sort that calls per item cubic). Only a local of
     /// the running procedure, named once among the arguments, is lent: no other code can
     /// reach it while the call runs.
+    #[inline(never)]
     fn lendable(&self, caller_var: &Rc<str>, args: &[Arg]) -> bool {
+        let an_array = {
+            let frames = self.frames.borrow();
+            let slot = frames.last().and_then(|f| f.vars.get(caller_var));
+            slot.is_some_and(|s| !s.constant && matches!(s.var(), Var::Array(_)))
+        };
+        // Only an array's name is looked for among the arguments: looking for every name
+        // made a call of 60,000 variables quadratic.
         let named = |a: &Arg| matches!(&a.value.kind, ExprKind::Name(n) if n.eq_ignore_ascii_case(caller_var));
-        if args.iter().filter(|a| named(a)).count() != 1 {
-            return false;
-        }
-        let frames = self.frames.borrow();
-        let slot = frames.last().and_then(|f| f.vars.get(caller_var));
-        slot.is_some_and(|s| !s.constant && matches!(s.var(), Var::Array(_)))
+        an_array && args.iter().filter(|a| named(a)).count() == 1
     }
 
     /// Takes a [`Interp::lendable`] array out of the caller's variable for the call.
@@ -1544,11 +1547,12 @@ impl Interp<'_, '_> {
     /// The arguments not bound when a binding fails are left in `bound` (an array argument
     /// whose items do not convert too), for a lent array to go back to its caller.
     fn bind_and_run(&self, p: &Proc, bound: &mut Vec<(usize, Var)>, typed: &[usize]) -> Run<()> {
-        let types = std::mem::take(&mut *self.arg_types.borrow_mut());
+        let types = self.take_arg_types();
         let long_longs = self.take_long_long_args();
+        by_parameter(bound);
         for (i, param) in p.params.iter().enumerate() {
-            let var = match bound.iter().position(|(j, _)| *j == i) {
-                Some(k) => bound.swap_remove(k).1,
+            let var = match bound_argument(bound, i) {
+                Some(var) => var,
                 None => match &param.default {
                     Some(d) => Var::Value(self.eval(d)?),
                     None => {
@@ -1578,7 +1582,7 @@ impl Interp<'_, '_> {
             let mut slot = Slot::new(param.name.clone(), var, param.ty.clone());
             // A Variant parameter given a Date holds a Date, given an Integer an Integer
             // ([MS-VBAL] 5.3.1.11: the argument's value is bound as it is, its value type with it).
-            slot.set_holds(types.iter().find(|(j, _)| *j == i).map_or(Declared::Variant, |&(_, ty)| ty));
+            slot.set_holds(argument_type(&types, i));
             self.long_long_arg(&long_longs, i, &mut slot);
             self.declare(slot);
         }
@@ -1598,6 +1602,15 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The types the caller noted of the arguments ([MS-VBAL] 5.3.1.11), ordered by parameter
+    /// (stably: the first noted of a parameter first) for [`argument_type`] to search.
+    #[inline(never)]
+    fn take_arg_types(&self) -> Vec<(usize, Declared)> {
+        let mut types = std::mem::take(&mut *self.arg_types.borrow_mut());
+        types.sort_by_key(|&(i, _)| i);
+        types
+    }
+
     /// Whether the running procedure and `proc` are of one class module.
     fn same_class(&self, proc: usize) -> bool {
         let Some(running) = self.frames.borrow().last().map(|f| f.proc) else { return false };
@@ -1606,10 +1619,17 @@ impl Interp<'_, '_> {
 
     /// A procedure's own variables are gone when it ends: an object only they held is
     /// terminated (not the Function's result, nor what a ByRef parameter gives back).
+    #[inline(never)]
     fn release_locals(&self, p: &Proc, frame: &Frame) -> Run<()> {
-        for slot in frame.vars.iter() {
+        for (k, slot) in frame.vars.iter().enumerate() {
+            // The parameters are the first slots, in order: a slot is looked for among them
+            // only when it is not its own place's (a call of 60,000 parameters was quadratic).
+            let by_ref = |q: &Param| q.by_ref && q.name.eq_ignore_ascii_case(&slot.name);
             let kept = (p.kind == ProcKind::Function && slot.name.eq_ignore_ascii_case(&p.name))
-                || p.params.iter().any(|q| q.by_ref && q.name.eq_ignore_ascii_case(&slot.name));
+                || match p.params.get(k).filter(|q| q.name.eq_ignore_ascii_case(&slot.name)) {
+                    Some(q) => q.by_ref,
+                    None => p.params.iter().any(by_ref),
+                };
             if !kept {
                 self.release(slot.var())?;
             }
@@ -3008,6 +3028,32 @@ fn err_description(fault: &Fault, number: u32) -> String {
 }
 
 /// The arguments of `bound` that are lent arrays, each with its entry of `lent`.
+/// Orders the bound arguments by parameter, the first parameter's last, for
+/// [`bound_argument`] to take each in turn: finding each parameter's argument among all made
+/// a call of 60,000 arguments quadratic.
+#[inline(never)]
+fn by_parameter(bound: &mut [(usize, Var)]) {
+    bound.sort_by_key(|b| std::cmp::Reverse(b.0));
+}
+
+/// The argument bound to parameter `i`, taken out of `bound` ([`by_parameter`]'s order).
+#[inline(never)]
+fn bound_argument(bound: &mut Vec<(usize, Var)>, i: usize) -> Option<Var> {
+    if bound.last().is_some_and(|(j, _)| *j == i) {
+        return bound.pop().map(|(_, var)| var);
+    }
+    let k = bound.iter().position(|(j, _)| *j == i)?;
+    Some(bound.remove(k).1)
+}
+
+/// The type the argument of parameter `i` holds (`types` ordered by parameter, as
+/// [`Interp::take_arg_types`] gives them), Variant when not noted.
+#[inline(never)]
+fn argument_type(types: &[(usize, Declared)], i: usize) -> Declared {
+    let k = types.partition_point(|(j, _)| *j < i);
+    types.get(k).filter(|(j, _)| *j == i).map_or(Declared::Variant, |&(_, ty)| ty)
+}
+
 fn lent_args(bound: Vec<(usize, Var)>, lent: &[(usize, Rc<str>)]) -> Vec<(Var, (usize, Rc<str>))> {
     let mut out = Vec::new();
     for (index, var) in bound {

@@ -16,6 +16,12 @@ use super::value::{Obj, Var};
 
 use super::resolve::constant_number as xl;
 
+/// The work a filled cell searched by Find or Replace counts ([`Interp::add_work`]): a
+/// statement's worth, as reading its text (a number shown as text) and matching it cost
+/// about what a statement does (0.45 µs in release). A blank cell counts an item. Uncounted,
+/// `Columns(1).Find` over 100,000 cells in a loop ran for minutes counting a statement a turn.
+const CELL_SEARCHED: u64 = super::interp::WORK_PER_STATEMENT;
+
 impl Interp<'_, '_> {
     /// `rng.Replace What, Replacement, [LookAt], [SearchOrder], [MatchCase], [MatchByte],
     /// [SearchFormat], [ReplaceFormat]`: in every cell of the range whose formula (or constant,
@@ -45,7 +51,9 @@ impl Interp<'_, '_> {
         for row in used.first.row..=used.last.row {
             for col in used.first.col..=used.last.col {
                 let cell = Rect::cell(Pos::new(row, col));
+                self.add_work(1);
                 let Value::Text(typed) = self.formulas(sheet, cell, false) else { continue };
+                self.add_work(CELL_SEARCHED);
                 let replaced = pattern.replace_all(&typed, NoExpand(&replacement));
                 if replaced != *typed {
                     let replaced = replaced.into_owned();
@@ -109,6 +117,7 @@ impl Interp<'_, '_> {
         for row in used.first.row..=used.last.row {
             for col in used.first.col..=used.last.col {
                 let p = Pos::new(row, col);
+                self.add_work(1);
                 let text = match by_values {
                     true if self.wb.borrow().value(sheet, p) == Value::Blank => continue,
                     true => self.shown_text(ctx, sheet, p),
@@ -117,6 +126,7 @@ impl Interp<'_, '_> {
                         _ => continue,
                     },
                 };
+                self.add_work(CELL_SEARCHED);
                 if !text.is_empty() && pattern.is_match(&text) && better(p, found) {
                     found = Some(p);
                 }

@@ -76,11 +76,23 @@ impl Interp<'_, '_> {
     /// `Range.End(direction)` from `from`, as Ctrl+arrow moves: from a filled cell whose
     /// neighbour is filled, to the last filled cell of that run; otherwise to the next
     /// filled cell, or the sheet's edge when there is none. A formula showing "" is filled.
+    /// Each cell it reads counts as an item of work against the statement limit: a run of
+    /// 100,000 filled cells is 100,000 reads, and `End(xlDown)` in a loop over it ran for
+    /// minutes counting a statement a turn.
     pub(super) fn end(&self, sheet: SheetId, from: Pos, direction: Direction) -> Pos {
+        let read = std::cell::Cell::new(0u64);
+        let found = self.end_reading(sheet, from, direction, &read);
+        self.add_work(read.get());
+        found
+    }
+
+    /// [`Interp::end`], counting the cells read in `read`.
+    fn end_reading(&self, sheet: SheetId, from: Pos, direction: Direction, read: &std::cell::Cell<u64>) -> Pos {
         let Some(next) = direction.step(from) else { return from };
         let wb = self.wb.borrow();
         let Some(used) = wb.used_rect(sheet) else { return direction.edge(from) };
         let filled = |p: Pos| {
+            read.set(read.get() + 1);
             used.contains(p)
                 && (wb.formula_id(sheet, p).is_some() || !matches!(wb.value(sheet, p), crate::eval::Value::Blank))
         };
@@ -601,17 +613,17 @@ impl Interp<'_, '_> {
             Some(place) => self.tab_at(place),
             None => self.wb.borrow().tab_position(self.active.get()).unwrap_or(0),
         };
-        let names = self.wb.borrow().sheet_names();
-        let mut taken: std::collections::HashSet<String> = names.iter().map(|n| n.to_ascii_lowercase()).collect();
-        let mut next = names.len() + 1;
-        let mut fresh = Vec::with_capacity(count);
-        while fresh.len() < count {
-            let name = format!("Sheet{next}");
-            next += 1;
-            if taken.insert(name.to_ascii_lowercase()) {
-                fresh.push(name);
-            }
-        }
+        // Each name looked up in the workbook's index: listing every name to check against
+        // made `Worksheets.Add` in a loop quadratic (70,000 adds ran for minutes). The
+        // numbers only grow, so the fresh names differ from one another.
+        let fresh: Vec<String> = {
+            let wb = self.wb.borrow();
+            (wb.sheet_len() + 1..)
+                .map(|n| format!("Sheet{n}"))
+                .filter(|name| wb.sheet_id(name).is_none())
+                .take(count)
+                .collect()
+        };
         let ids = self.book_mut()?.insert_sheets(&fresh, at).map_err(|e| self.error_1004(link.span, e.to_string()))?;
         let last = *ids.last().expect("at least one sheet added");
         self.active.set(last);
