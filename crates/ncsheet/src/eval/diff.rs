@@ -37,19 +37,52 @@ pub struct DiffError {
     pub message: String,
 }
 
+/// The parts (syntax-tree nodes) a slope may be built of: a surface's own formula is a few
+/// dozen, a product of 1,400 factors about two million. Each part holds about 130 bytes.
+pub const MAX_SLOPE_PARTS: usize = 1_000_000;
+
 /// `∂e/∂var`, where `var` is a name (`x`, or a LAMBDA parameter) compared without case.
 pub fn derivative(e: &Expr, var: &str) -> Result<Expr, DiffError> {
-    Differ { var, lets: Vec::new() }.d(e)
+    derivative_within(e, var, MAX_SLOPE_PARTS)
+}
+
+/// [`derivative`], refused once building it has taken `parts` parts: the nodes of the
+/// formula it differentiated and the parts of the formula it copied into the slope.
+pub fn derivative_within(e: &Expr, var: &str, parts: usize) -> Result<Expr, DiffError> {
+    let mut differ = Differ { var, lets: Vec::new(), room: parts.saturating_add(1) };
+    differ.d(e).map_err(|err| match differ.room {
+        // The limit is the whole formula's, not the node's where it ran out.
+        0 => DiffError { span: e.span, message: slope_limit_message(var, parts) },
+        _ => err,
+    })
+}
+
+fn slope_limit_message(var: &str, parts: usize) -> String {
+    format!(
+        "the surface's slope by {var} would have more than {parts} parts; write the surface \
+         shorter (a product of n factors has a slope of about n² parts)"
+    )
 }
 
 struct Differ<'v> {
     var: &'v str,
     /// LET names in scope, innermost last, with the name of their derivative when it is not 0.
     lets: Vec<(Rc<str>, Option<Rc<str>>)>,
+    /// Parts the slope may still take ([`MAX_SLOPE_PARTS`]).
+    room: usize,
 }
 
 impl Differ<'_> {
     fn d(&mut self, e: &Expr) -> Result<Expr, DiffError> {
+        self.room = self.room.saturating_sub(1);
+        let slope = self.d_node(e)?;
+        if self.room == 0 {
+            return Err(DiffError { span: e.span, message: String::new() });
+        }
+        Ok(slope)
+    }
+
+    fn d_node(&mut self, e: &Expr) -> Result<Expr, DiffError> {
         Ok(match &e.kind {
             ExprKind::Name(name) => self.d_name(name),
             ExprKind::Paren(inner) => self.d(inner)?,
@@ -101,10 +134,10 @@ impl Differ<'_> {
             BinOp::Add => add(da, db),
             BinOp::Sub => sub(da, db),
             // (uv)' = u'v + uv'
-            BinOp::Mul => add(mul(da, b.clone()), mul(a.clone(), db)),
+            BinOp::Mul => add(mul(da, self.copy(b)), mul(self.copy(a), db)),
             // (u/v)' = u'/v − u·v'/v²
-            BinOp::Div => sub(div(da, b.clone()), div(mul(a.clone(), db), pow(b.clone(), num(2.0)))),
-            BinOp::Pow => d_power(a, b, da, db),
+            BinOp::Div => sub(div(da, self.copy(b)), div(mul(self.copy(a), db), pow(self.copy(b), num(2.0)))),
+            BinOp::Pow => self.d_power(a, b, da, db),
             // A comparison is TRUE or FALSE on either side of its switch: slope 0.
             BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Like => num(0.0),
             // A reference operator is no number: its derivative is that of a constant.
@@ -129,12 +162,15 @@ impl Differ<'_> {
             "SUM" => return self.d_sum(args),
             _ => {}
         }
-        let ds = args.iter().map(|a| self.d(a)).collect::<Result<Vec<_>, _>>()?;
+        let mut ds = args.iter().map(|a| self.d(a)).collect::<Result<Vec<_>, _>>()?;
         if ds.iter().all(is_zero) {
             return Ok(num(0.0));
         }
-        let u = args.first().map(bare).cloned().unwrap_or_else(|| num(0.0));
-        let du = ds[0].clone();
+        if name == "LOG" {
+            return Ok(self.d_log(args, ds));
+        }
+        let u = args.first().map(|a| self.copy(bare(a))).unwrap_or_else(|| num(0.0));
+        let du = take(&mut ds, 0);
         // Most rules are f'(u)·u': `outer` is f'(u).
         let outer = match name {
             "ABS" => call("SIGN", vec![u]),
@@ -143,14 +179,13 @@ impl Differ<'_> {
             "EXP" => call("EXP", vec![u]),
             "LN" => div(num(1.0), u),
             "LOG10" => div(num(1.0), mul(u, num(std::f64::consts::LN_10))),
-            "LOG" => return Ok(self.d_log(args, ds)),
-            "POWER" => return Ok(d_power(&u, bare(&args[1]), du, ds[1].clone())),
+            "POWER" => return Ok(self.d_power(&u, bare(&args[1]), du, take(&mut ds, 1))),
             "SIN" => call("COS", vec![u]),
             "COS" => neg(call("SIN", vec![u])),
             "TAN" => div(num(1.0), pow(call("COS", vec![u]), num(2.0))),
             "COT" => neg(div(num(1.0), pow(call("SIN", vec![u]), num(2.0)))),
-            "SEC" => mul(call("SEC", vec![u.clone()]), call("TAN", vec![u])),
-            "CSC" => neg(mul(call("CSC", vec![u.clone()]), call("COT", vec![u]))),
+            "SEC" => mul(call("SEC", vec![self.copy(&u)]), call("TAN", vec![u])),
+            "CSC" => neg(mul(call("CSC", vec![self.copy(&u)]), call("COT", vec![u]))),
             "ASIN" => div(num(1.0), call("SQRT", vec![sub(num(1.0), pow(u, num(2.0)))])),
             "ACOS" => neg(div(num(1.0), call("SQRT", vec![sub(num(1.0), pow(u, num(2.0)))]))),
             "ATAN" => div(num(1.0), add(num(1.0), pow(u, num(2.0)))),
@@ -159,15 +194,15 @@ impl Differ<'_> {
             "COSH" => call("SINH", vec![u]),
             "TANH" => div(num(1.0), pow(call("COSH", vec![u]), num(2.0))),
             "COTH" => neg(div(num(1.0), pow(call("SINH", vec![u]), num(2.0)))),
-            "SECH" => neg(mul(call("SECH", vec![u.clone()]), call("TANH", vec![u]))),
-            "CSCH" => neg(mul(call("CSCH", vec![u.clone()]), call("COTH", vec![u]))),
+            "SECH" => neg(mul(call("SECH", vec![self.copy(&u)]), call("TANH", vec![u]))),
+            "CSCH" => neg(mul(call("CSCH", vec![self.copy(&u)]), call("COTH", vec![u]))),
             "ASINH" => div(num(1.0), call("SQRT", vec![add(pow(u, num(2.0)), num(1.0))])),
             "ACOSH" => div(num(1.0), call("SQRT", vec![sub(pow(u, num(2.0)), num(1.0))])),
             "ATANH" | "ACOTH" => div(num(1.0), sub(num(1.0), pow(u, num(2.0)))),
             "DEGREES" => num(180.0 / std::f64::consts::PI),
             "RADIANS" => num(std::f64::consts::PI / 180.0),
-            "ATAN2" => return Ok(d_atan2(&u, bare(&args[1]), du, ds[1].clone())),
-            "MOD" => return Ok(d_mod(&u, bare(&args[1]), du, ds[1].clone())),
+            "ATAN2" => return Ok(self.d_atan2(&u, bare(&args[1]), du, take(&mut ds, 1))),
+            "MOD" => return Ok(self.d_mod(&u, bare(&args[1]), du, take(&mut ds, 1))),
             _ if is_step_function(name) => return Ok(num(0.0)),
             _ => return Err(unsupported(e, name)),
         };
@@ -175,17 +210,17 @@ impl Differ<'_> {
     }
 
     /// `LOG(u, [base])` is `LN(u)/LN(base)`.
-    fn d_log(&mut self, args: &[Expr], ds: Vec<Expr>) -> Expr {
-        let u = bare(&args[0]).clone();
-        let du = ds[0].clone();
+    fn d_log(&mut self, args: &[Expr], mut ds: Vec<Expr>) -> Expr {
+        let u = self.copy(bare(&args[0]));
+        let du = take(&mut ds, 0);
         match args.get(1).filter(|b| b.kind != ExprKind::Missing) {
             None => div(du, mul(u, num(std::f64::consts::LN_10))),
             Some(base) => {
-                let ln_u = call("LN", vec![u.clone()]);
-                let ln_b = call("LN", vec![bare(base).clone()]);
+                let ln_u = call("LN", vec![self.copy(&u)]);
+                let ln_b = call("LN", vec![self.copy(bare(base))]);
                 let d_ln_u = div(du, u);
-                let d_ln_b = div(ds[1].clone(), bare(base).clone());
-                sub(div(d_ln_u, ln_b.clone()), div(mul(ln_u, d_ln_b), pow(ln_b, num(2.0))))
+                let d_ln_b = div(take(&mut ds, 1), self.copy(bare(base)));
+                sub(div(d_ln_u, self.copy(&ln_b)), div(mul(ln_u, d_ln_b), pow(ln_b, num(2.0))))
             }
         }
     }
@@ -209,7 +244,7 @@ impl Differ<'_> {
         for pair in pairs.chunks(2) {
             let ExprKind::Name(name) = &pair[0].kind else { return Ok(num(0.0)) };
             let dv = self.d(&pair[1])?;
-            out.extend([pair[0].clone(), pair[1].clone()]);
+            out.extend([self.copy(&pair[0]), self.copy(&pair[1])]);
             let dname: Option<Rc<str>> = if is_zero(&dv) {
                 None
             } else {
@@ -230,7 +265,7 @@ impl Differ<'_> {
     /// IF and CHOOSE: the arguments from `first` on are the alternatives, differentiated in
     /// place under the same condition or index.
     fn d_choice(&mut self, name: &str, args: &[Expr], first: usize) -> Result<Expr, DiffError> {
-        let mut out = args[..first].to_vec();
+        let mut out: Vec<Expr> = args[..first].iter().map(|a| self.copy(a)).collect();
         for a in &args[first..] {
             out.push(self.d_branch(a)?);
         }
@@ -251,7 +286,7 @@ impl Differ<'_> {
     fn d_ifs(&mut self, args: &[Expr]) -> Result<Expr, DiffError> {
         let mut out = Vec::with_capacity(args.len());
         for pair in args.chunks(2) {
-            out.push(pair[0].clone());
+            out.push(self.copy(&pair[0]));
             if let Some(value) = pair.get(1) {
                 out.push(self.d_branch(value)?);
             }
@@ -261,7 +296,7 @@ impl Differ<'_> {
 
     /// `SWITCH(e, v1, r1, …, [default])`: the results are differentiated, the cases kept.
     fn d_switch(&mut self, args: &[Expr]) -> Result<Expr, DiffError> {
-        let mut out = vec![args[0].clone()];
+        let mut out = vec![self.copy(&args[0])];
         let mut any = false;
         for (i, a) in args[1..].iter().enumerate() {
             let is_result = i % 2 == 1 || i == args.len() - 2;
@@ -270,7 +305,7 @@ impl Differ<'_> {
                 any |= !is_zero(&da);
                 out.push(da);
             } else {
-                out.push(a.clone());
+                out.push(self.copy(a));
             }
         }
         Ok(if any { call("SWITCH", out) } else { num(0.0) })
@@ -281,13 +316,13 @@ impl Differ<'_> {
         if is_zero(&dv) && is_zero(&dalt) {
             return Ok(num(0.0));
         }
-        Ok(call("IF", vec![call("ISERROR", vec![args[0].clone()]), dalt, dv]))
+        Ok(call("IF", vec![call("ISERROR", vec![self.copy(&args[0])]), dalt, dv]))
     }
 
     /// `MAX(a, b, …)`: the slope of the first argument equal to the maximum. Arguments without
     /// the variable (ranges included) have slope 0 and need no test.
     fn d_extremum(&mut self, name: &str, args: &[Expr]) -> Result<Expr, DiffError> {
-        let whole = call(name, args.to_vec());
+        let whole = call(name, args.iter().map(|a| self.copy(a)).collect());
         let mut out = num(0.0);
         for a in args.iter().rev() {
             let da = self.d(a)?;
@@ -295,8 +330,8 @@ impl Differ<'_> {
                 let attained = Expr::new(
                     ExprKind::Binary(
                         BinOp::Eq,
-                        Box::new(wrap(bare(a).clone(), binary_precedence(BinOp::Eq) + 1)),
-                        Box::new(whole.clone()),
+                        Box::new(wrap(self.copy(bare(a)), binary_precedence(BinOp::Eq) + 1)),
+                        Box::new(self.copy(&whole)),
                     ),
                     Span::default(),
                 );
@@ -320,33 +355,48 @@ impl Differ<'_> {
         }
         Ok(true)
     }
-}
 
-/// `(a^b)'`: `b·a^(b−1)·a'` for a constant exponent (so `x^2` at x = 0 has slope 0, where the
-/// general rule would take `LN(0)`), `a^b·LN(a)·b'` for a constant base, both terms otherwise.
-fn d_power(a: &Expr, b: &Expr, da: Expr, db: Expr) -> Expr {
-    let power_rule = || match b.kind {
-        ExprKind::Number(n) => mul(mul(num(n), pow(a.clone(), num(n - 1.0))), da.clone()),
-        _ => mul(mul(b.clone(), pow(a.clone(), sub(b.clone(), num(1.0)))), da.clone()),
-    };
-    let exponent_rule = || mul(mul(pow(a.clone(), b.clone()), call("LN", vec![a.clone()])), db.clone());
-    match (is_zero(&da), is_zero(&db)) {
-        (true, true) => num(0.0),
-        (false, true) => power_rule(),
-        (true, false) => exponent_rule(),
-        (false, false) => add(power_rule(), exponent_rule()),
+    /// `(a^b)'`: `b·a^(b−1)·a'` for a constant exponent (so `x^2` at x = 0 has slope 0, where the
+    /// general rule would take `LN(0)`), `a^b·LN(a)·b'` for a constant base, both terms otherwise.
+    fn d_power(&mut self, a: &Expr, b: &Expr, da: Expr, db: Expr) -> Expr {
+        match (is_zero(&da), is_zero(&db)) {
+            (true, true) => num(0.0),
+            (false, true) => self.power_rule(a, b, da),
+            (true, false) => self.exponent_rule(a, b, db),
+            (false, false) => add(self.power_rule(a, b, da), self.exponent_rule(a, b, db)),
+        }
     }
-}
 
-/// Excel's `ATAN2(x, y)` is the angle of the point (x, y): slope `(x·y' − y·x')/(x² + y²)`.
-fn d_atan2(x: &Expr, y: &Expr, dx: Expr, dy: Expr) -> Expr {
-    let r2 = add(pow(x.clone(), num(2.0)), pow(y.clone(), num(2.0)));
-    div(sub(mul(x.clone(), dy), mul(y.clone(), dx)), r2)
-}
+    fn power_rule(&mut self, a: &Expr, b: &Expr, da: Expr) -> Expr {
+        match b.kind {
+            ExprKind::Number(n) => mul(mul(num(n), pow(self.copy(a), num(n - 1.0))), da),
+            _ => mul(mul(self.copy(b), pow(self.copy(a), sub(self.copy(b), num(1.0)))), da),
+        }
+    }
 
-/// `MOD(n, d) = n − d·INT(n/d)`; INT is piecewise constant.
-fn d_mod(n: &Expr, d: &Expr, dn: Expr, dd: Expr) -> Expr {
-    sub(dn, mul(dd, call("INT", vec![div(n.clone(), d.clone())])))
+    fn exponent_rule(&mut self, a: &Expr, b: &Expr, db: Expr) -> Expr {
+        mul(mul(pow(self.copy(a), self.copy(b)), call("LN", vec![self.copy(a)])), db)
+    }
+
+    /// Excel's `ATAN2(x, y)` is the angle of the point (x, y): slope `(x·y' − y·x')/(x² + y²)`.
+    fn d_atan2(&mut self, x: &Expr, y: &Expr, dx: Expr, dy: Expr) -> Expr {
+        let r2 = add(pow(self.copy(x), num(2.0)), pow(self.copy(y), num(2.0)));
+        div(sub(mul(self.copy(x), dy), mul(self.copy(y), dx)), r2)
+    }
+
+    /// `MOD(n, d) = n − d·INT(n/d)`; INT is piecewise constant.
+    fn d_mod(&mut self, n: &Expr, d: &Expr, dn: Expr, dd: Expr) -> Expr {
+        sub(dn, mul(dd, call("INT", vec![div(self.copy(n), self.copy(d))])))
+    }
+
+    /// A copy of a part of the formula in its slope, charged to [`MAX_SLOPE_PARTS`]: a product
+    /// of n factors has a slope of n²/2 parts, a chain of them would fill the memory.
+    fn copy(&mut self, e: &Expr) -> Expr {
+        let mut parts = 0usize;
+        e.visit(&mut |_| parts += 1);
+        self.room = self.room.saturating_sub(parts);
+        e.clone()
+    }
 }
 
 /// Numeric functions of numbers with a derivative rule here: no references, no side notes.
@@ -433,6 +483,11 @@ fn unsupported(e: &Expr, name: &str) -> DiffError {
 
 // ---- building simplified trees ------------------------------------------------------------
 
+/// The `i`th of the arguments' slopes, moved out (a slope can be large; it is used once).
+fn take(ds: &mut [Expr], i: usize) -> Expr {
+    std::mem::replace(&mut ds[i], num(0.0))
+}
+
 fn num(v: f64) -> Expr {
     Expr::new(ExprKind::Number(v), Span::default())
 }
@@ -495,9 +550,9 @@ fn add(a: Expr, b: Expr) -> Expr {
         (Some(0.0), _) => b,
         (_, Some(0.0)) => a,
         (Some(x), Some(y)) => folded(x + y).unwrap_or_else(|| binary(BinOp::Add, a, b)),
-        _ => match negated(&b) {
-            Some(inner) => sub(a, inner),
-            None => binary(BinOp::Add, a, b),
+        _ => match into_negated(b) {
+            Ok(inner) => sub(a, inner),
+            Err(b) => binary(BinOp::Add, a, b),
         },
     }
 }
@@ -511,12 +566,22 @@ fn sub(a: Expr, b: Expr) -> Expr {
     }
 }
 
-/// The operand of a negation (`-u` → `u`, `-3` → `3`), for `a + -u` → `a - u`.
-fn negated(e: &Expr) -> Option<Expr> {
-    match &e.kind {
-        ExprKind::Unary(UnaryOp::Neg, inner) => Some(bare(inner).clone()),
-        ExprKind::Number(v) if *v < 0.0 => Some(num(-v)),
-        _ => None,
+/// The operand of a negation (`-u` → `u`, `-3` → `3`), for `a + -u` → `a - u`; `e` itself
+/// back when it is none. Taken apart, not copied: a derivative's terms can be large.
+fn into_negated(e: Expr) -> Result<Expr, Expr> {
+    let span = e.span;
+    match e.kind {
+        ExprKind::Unary(UnaryOp::Neg, inner) => Ok(unparen(*inner)),
+        ExprKind::Number(v) if v < 0.0 => Ok(num(-v)),
+        kind => Err(Expr::new(kind, span)),
+    }
+}
+
+/// `e` without its outer parentheses, taken apart.
+fn unparen(e: Expr) -> Expr {
+    match e.kind {
+        ExprKind::Paren(inner) => unparen(*inner),
+        kind => Expr::new(kind, e.span),
     }
 }
 
@@ -524,13 +589,15 @@ fn neg(a: Expr) -> Expr {
     if let Some(v) = number_of(&a) {
         return num(-v);
     }
-    if let Some(inner) = negated(&a) {
-        return inner;
-    }
+    let a = match into_negated(a) {
+        Ok(inner) => return inner,
+        Err(a) => a,
+    };
     // −(c·u) = (−c)·u keeps constants in front where they fold.
-    if let ExprKind::Binary(BinOp::Mul, c, u) = &a.kind {
+    if let ExprKind::Binary(BinOp::Mul, c, _) = &a.kind {
         if let Some(c) = number_of(c) {
-            return mul(num(-c), bare(u).clone());
+            let (_, u) = split_constant(a);
+            return mul(num(-c), u.expect("a product has a factor besides its constant"));
         }
     }
     let inner = wrap(a, unary_precedence(UnaryOp::Neg));
@@ -542,16 +609,27 @@ fn split_constant(e: Expr) -> (f64, Option<Expr>) {
     if let Some(v) = number_of(&e) {
         return (v, None);
     }
-    if let ExprKind::Binary(BinOp::Mul, c, u) = &e.kind {
-        if let Some(c) = number_of(c) {
-            return (c, Some(bare(u).clone()));
+    let span = e.span;
+    match e.kind {
+        ExprKind::Binary(BinOp::Mul, c, u) if number_of(&c).is_some() => (constant_factor(&c), Some(unparen(*u))),
+        ExprKind::Unary(UnaryOp::Neg, inner) => {
+            let (c, u) = split_constant(unparen(*inner));
+            (-c, u)
         }
+        kind => (1.0, Some(Expr::new(kind, span))),
     }
-    if let Some(inner) = negated(&e) {
-        let (c, u) = split_constant(inner);
-        return (-c, u);
+}
+
+/// The constant [`split_constant`] finds, read without taking `e` apart.
+fn constant_factor(e: &Expr) -> f64 {
+    if let Some(v) = number_of(e) {
+        return v;
     }
-    (1.0, Some(e))
+    match &e.kind {
+        ExprKind::Binary(BinOp::Mul, c, _) => number_of(c).unwrap_or(1.0),
+        ExprKind::Unary(UnaryOp::Neg, inner) => -constant_factor(bare(inner)),
+        _ => 1.0,
+    }
 }
 
 fn mul(a: Expr, b: Expr) -> Expr {
@@ -560,13 +638,11 @@ fn mul(a: Expr, b: Expr) -> Expr {
         // slope), as in every differentiation by hand.
         return num(0.0);
     }
-    let (ca, ua) = split_constant(a.clone());
-    let (cb, ub) = split_constant(b.clone());
-    let c = ca * cb;
+    let c = constant_factor(&a) * constant_factor(&b);
     if !c.is_finite() {
         return binary(BinOp::Mul, a, b);
     }
-    let rest = match (ua, ub) {
+    let rest = match (split_constant(a).1, split_constant(b).1) {
         (None, None) => return num(c),
         (Some(u), None) | (None, Some(u)) => u,
         (Some(u), Some(v)) => binary(BinOp::Mul, u, v),

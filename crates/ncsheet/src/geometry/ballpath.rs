@@ -362,9 +362,9 @@ fn check_spec(spec: &BallPathSpec) -> Result<(), GeometryError> {
     Ok(())
 }
 
-/// The fewest points the path can have, counted before any is placed: a step of 1e-9 must
-/// not ask for the memory of 1e10 stations.
-fn check_point_count<E>(spec: &BallPathSpec) -> Result<(), PathError<E>> {
+/// The fewest points the path of `spec` can have (each one a surface sample), from its
+/// rectangle, stepover and step alone.
+pub fn fewest_points(spec: &BallPathSpec) -> f64 {
     let across = match spec.lines {
         Lines::ConstantX => spec.x,
         Lines::ConstantY => spec.y,
@@ -376,7 +376,13 @@ fn check_point_count<E>(spec: &BallPathSpec) -> Result<(), PathError<E>> {
     let n_lines = ((across[1] - across[0]) / spec.stepover).ceil() + 1.0;
     let step = spacing_step(spec.spacing);
     let per_line = ((along[1] - along[0]) / step).ceil() + 1.0;
-    let least = n_lines * per_line;
+    n_lines * per_line
+}
+
+/// The fewest points the path can have, counted before any is placed: a step of 1e-9 must
+/// not ask for the memory of 1e10 stations.
+fn check_point_count<E>(spec: &BallPathSpec) -> Result<(), PathError<E>> {
+    let least = fewest_points(spec);
     if least > spec.max_points as f64 {
         return Err(PathError::TooManyPoints { at_least: Some(least), limit: spec.max_points });
     }

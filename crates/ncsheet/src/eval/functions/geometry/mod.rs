@@ -7,13 +7,15 @@ use nalgebra::{Point3, Vector3};
 use crate::eval::coerce::{to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{lift, Ctx, FnSpec};
-use crate::eval::surface::{surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault};
+use crate::eval::surface::{
+    surface_argument, BoundSurface, EmptyEnv, FormulaSurface, Home, SurfaceFault, MAX_SURFACE_STEPS,
+};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::Pos;
 use crate::formula::ast::{Expr, ExprKind};
 use crate::geometry::ballpath::{
-    ball_path, ball_path_as_written, BallPath, BallPathSpec, Gouge, GougeCheck, GougeKind, Lines, PathError, Sample,
-    Spacing, Surface, Written, GOUGE_TOLERANCE,
+    ball_path, ball_path_as_written, fewest_points, BallPath, BallPathSpec, Gouge, GougeCheck, GougeKind, Lines,
+    PathError, Sample, Spacing, Surface, Written, GOUGE_TOLERANCE,
 };
 use crate::geometry::cam::{fit_piece, Piece, PieceKind};
 use crate::geometry::chamfer::{chamfer, ChamferKind, ChamferPoints, ChamferSpec};
@@ -253,6 +255,7 @@ fn typed_ball_path(
     if ctx.in_surface {
         return Err(PathFailure::Other(XlError::Calc, "a surface formula cannot itself compute a BALLPATH".into()));
     }
+    check_surface_steps(surface, spec)?;
     ctx.in_surface = true;
     let result = match home {
         Home::Here => both_paths(&mut surface.bind(ctx), spec, written, progress),
@@ -268,16 +271,34 @@ fn typed_ball_path(
             let (error, message) = geometry_error(g);
             PathFailure::Other(error, message)
         }
-        PathError::Surface { x, y, error } => PathFailure::Other(
-            error.error,
-            format!("the surface's {} is {} at x={x}, y={y}", error.part.describe(), error.error),
-        ),
+        PathError::Surface { x, y, error } => PathFailure::Other(error.error(), error.describe(x, y)),
         PathError::TooManyPoints { at_least, limit } => PathFailure::TooManyPoints {
             at_least,
             limit,
             message: PathError::<SurfaceFault>::point_limit_message(at_least, limit),
         },
     })
+}
+
+/// Refuses a path whose points alone would take the surface past [`MAX_SURFACE_STEPS`],
+/// before any is placed: a formula of thousands of steps over a fine grid ran for minutes.
+/// (The steps are counted again as they are spent, the gouge check's included.)
+fn check_surface_steps(surface: &FormulaSurface, spec: &BallPathSpec) -> Result<(), PathFailure> {
+    let points = fewest_points(spec);
+    // Past the point limit (or not a count at all) the path refuses itself, naming that limit.
+    let within_point_limit = points <= spec.max_points as f64;
+    let per_point = surface.steps().sample;
+    if !within_point_limit || points * per_point as f64 <= MAX_SURFACE_STEPS as f64 {
+        return Ok(());
+    }
+    Err(PathFailure::Other(
+        XlError::Num,
+        format!(
+            "the surface takes {per_point} formula steps a point with its slopes, and the path's {points} \
+             points alone would take more than the {MAX_SURFACE_STEPS} steps one path may spend; write the \
+             surface shorter, or ask for fewer points"
+        ),
+    ))
 }
 
 /// The path and, with `written`, the path as written, in one run: the written one's check
