@@ -850,3 +850,45 @@ fn xlsb_records_cut_short_or_past_the_sheet_are_refused_naming_the_part() {
         );
     }
 }
+
+/// [MS-XLS] 2.4.4 "Array": a legacy array formula's FORMULA record holds PtgExp (0x01) to its
+/// own cell and the ARRAY record after it gives the area (rwFirst, rwLast, colFirst, colLast)
+/// and the formula. One over a whole .xls sheet, A1:IV65536, is 16,777,216 cells, which an
+/// xlsx writes one by one: `set … -o out.xlsx` ran for minutes and wrote gigabytes. Its value
+/// is #SPILL! past the workbook's cell limit, and saving it is refused naming the cell; no
+/// file is left behind.
+#[test]
+fn an_xls_array_formula_over_the_whole_sheet_is_not_written_cell_by_cell() {
+    const FORMULA: u16 = 0x0006;
+    const ARRAY: u16 = 0x0221;
+    let bytes = xls_with_records(|list| {
+        let at = list.iter().position(|(kind, _)| *kind == FORMULA).expect("a Formula record");
+        let (row, col) = (u16::from_le_bytes([list[at].1[0], list[at].1[1]]), list[at].1[2]);
+        // PtgExp to the record's own cell, 5 bytes of formula.
+        let body = &mut list[at].1;
+        body.truncate(20);
+        body.extend_from_slice(&5u16.to_le_bytes());
+        body.extend_from_slice(&[0x01, row.to_le_bytes()[0], row.to_le_bytes()[1], col, 0]);
+        // Area from the cell to the sheet's last row and column; formula PtgInt 1.
+        let mut array = Vec::new();
+        array.extend_from_slice(&row.to_le_bytes());
+        array.extend_from_slice(&65535u16.to_le_bytes());
+        array.extend_from_slice(&[col, 255]);
+        array.extend_from_slice(&[0, 0, 0, 0, 0, 0]);
+        array.extend_from_slice(&3u16.to_le_bytes());
+        array.extend_from_slice(&[0x1E, 1, 0]);
+        list.insert(at + 1, (ARRAY, array));
+    });
+    let opened = open(bytes, Format::Xls).unwrap_or_else(|e| panic!("{e}"));
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.xlsx");
+    let layout = opened.layout.clone().unwrap_or_default();
+    let error = io::xlsx::save_with_layout(&opened.workbook, &layout, &out).expect_err("refused").to_string();
+    assert!(
+        error.contains("Sheet1!")
+            && error.contains("the array formula over ")
+            && error.contains("more than the 8388608 a workbook holds"),
+        "{error}"
+    );
+    assert!(!out.exists(), "nothing is written");
+}

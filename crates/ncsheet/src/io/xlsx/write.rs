@@ -19,10 +19,10 @@ use rust_xlsxwriter::{Format, Formula, Worksheet};
 
 use crate::eval::format::cell_style::CellStyle;
 use crate::eval::{Env, Value, XlError};
-use crate::formula::address::Pos;
+use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::SheetId;
 use crate::formula::print::{number_literal, quote_sheet_name};
-use crate::workbook::Workbook;
+use crate::workbook::{Workbook, MAX_CELLS};
 
 use super::syntax::{self, FileFormula, Storage};
 use super::{ArrayFormula, ErrorKind, Layout, XlsxError};
@@ -153,6 +153,9 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
             let format = (code.is_some() || !style.is_plain())
                 .then(|| &*formats.entry((code, style)).or_insert_with(|| cell_format(code, style)));
             let place = || wb.cell_name(sheet, pos);
+            if let Some(area) = wb.array_area(sheet, pos) {
+                array_area_fits(file, &place(), area)?;
+            }
             match syntax::cell_to_file(wb, sheet, pos, Storage::Legacy) {
                 Some(legacy) => {
                     let array = sheet_layout.and_then(|l| l.array_formulas.get(&pos));
@@ -449,6 +452,21 @@ fn write_formula(
         },
     }
     .map(|_| ())
+}
+
+/// A legacy array formula is written with a value in every cell of its area, as Excel stores
+/// it: an area past the cells a workbook holds (an .xls record over `A1:IV65536`, 16,777,216
+/// cells) would write gigabytes, so the save is refused naming the cell.
+fn array_area_fits(file: &Path, place: &str, area: Rect) -> Result<(), XlsxError> {
+    let cells = area.rows() as u64 * area.cols() as u64;
+    if cells <= MAX_CELLS as u64 {
+        return Ok(());
+    }
+    let message = format!(
+        "the array formula over {area} fills {cells} cells, more than the {MAX_CELLS} a workbook holds \
+         (ncsheet's limit, docs/limits.md): it cannot be written; enter it over a smaller area"
+    );
+    Err(XlsxError::new(file, Some(place), ErrorKind::TooLarge, message))
 }
 
 /// Whether the area of an array formula holds nothing but its anchor (and is of a sane size).
