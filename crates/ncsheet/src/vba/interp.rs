@@ -2033,10 +2033,13 @@ impl Interp<'_, '_> {
     /// inside an `If` overflowed an 8 MiB stack before the count was reached).
     fn gosub(&self, label: &str) -> Run<Flow> {
         let depth = self.gosubs.get();
-        let short = self.stack_short();
+        // Half a reserve more than a handler needs: error 28 is handled at this depth (the
+        // handler runs in the procedure the GoSubs nest in), so it must find its reserve.
+        let kept = self.stack_reserve() * 3 / 2;
+        let short = self.stack_left().is_some_and(|left| left < kept);
         if depth >= GOSUB_MAX_DEPTH || short {
             let why = if short {
-                format!(", less than {} KiB of the thread's stack left", self.stack_reserve() >> 10)
+                format!(", less than {} KiB of the thread's stack left", kept >> 10)
             } else {
                 String::new()
             };
