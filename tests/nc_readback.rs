@@ -929,3 +929,28 @@ fn a_semicolon_is_read_as_each_control_reads_it() {
         );
     }
 }
+
+/// A full circle takes about 2π·2ⁿ clocks (each clock turns an n-bit arc by at most a quarter
+/// increment, docs/domain.md §4): with 24-bit adders 105 million rows, 6 GB of text and
+/// minutes of writing for any radius. An arc's table ends where a straight move's does, at
+/// 2^24 clocks, and one longer is refused before a row is written, saying what is enough; the
+/// same circle with the bits its radius needs takes 4R pulses on each axis.
+#[test]
+fn nc_dda_refuses_an_arc_of_more_clocks_than_a_table_has_rows() {
+    let circle = |bits| dda::circular(bits, (-1000, 0), (-1000, 0), ArcDirection::Clockwise).unwrap();
+    assert_eq!(circle(dda::bits_for_circle((-1000, 0), (-1000, 0))).pulses().unwrap(), [4000, 4000]);
+    let error = circle(24).pulses().unwrap_err().to_string();
+    assert!(error.contains("the arc takes more than 16777216 clocks with 24-bit adders"), "{error}");
+    assert!(error.contains("--bits 12 is enough for this radius"), "{error}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("arc.txt");
+    let out = Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["nc", "dda", "--arc", "cw", "--dx", "0", "--dy", "0", "--i", "8000000", "--j", "0"])
+        .args(["-o", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("give a coarser --increment"));
+    assert!(!file.exists(), "nothing is written");
+}

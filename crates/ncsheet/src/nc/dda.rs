@@ -175,10 +175,14 @@ impl CircularRun {
     }
 
     /// Steps each axis took, X then Y (a full circle takes 4R on each), or why the arc did
-    /// not reach its end.
+    /// not reach its end, or that it takes more clocks than a table has rows
+    /// ([`MAX_TABLE_CLOCKS`]).
     pub fn pulses(&self) -> Result<[u64; 2], DdaError> {
         let mut counts = [0u64; 2];
-        for clock in self.clocks() {
+        for (n, clock) in self.clocks().enumerate() {
+            if n as u64 >= MAX_TABLE_CLOCKS {
+                return Err(self.too_many_clocks());
+            }
             let clock = clock?;
             for (n, step) in counts.iter_mut().zip(clock.steps) {
                 *n += u64::from(step != 0);
@@ -187,6 +191,27 @@ impl CircularRun {
         Ok(counts)
     }
 }
+
+impl CircularRun {
+    /// A full circle takes about 2π·2ⁿ clocks: with 24-bit adders, 105 million rows (6 GB of
+    /// text, minutes to write), where a straight move's table ends at 2^24.
+    fn too_many_clocks(&self) -> DdaError {
+        let needed = bits_for_circle(self.start, self.end);
+        let advice = if self.bits > needed {
+            format!("give fewer bits (--bits {needed} is enough for this radius) or a coarser --increment")
+        } else {
+            "give a coarser --increment (the radius in fewer increments needs fewer bits and clocks)".to_string()
+        };
+        DdaError(format!(
+            "the arc takes more than {MAX_TABLE_CLOCKS} clocks with {}-bit adders (2^{MAX_BITS}, the longest table \
+             ncsheet writes, as a straight move's): {advice}",
+            self.bits
+        ))
+    }
+}
+
+/// The most clocks a table shows: a straight move's 2^[`MAX_BITS`], and an arc's as many.
+pub const MAX_TABLE_CLOCKS: u64 = 1 << MAX_BITS;
 
 fn swap(p: (i64, i64)) -> (i64, i64) {
     (p.1, p.0)
