@@ -313,6 +313,95 @@ fn a_running_balance_through_index_of_its_own_column_is_no_cycle() {
     assert_eq!(wb.cycles(), vec![vec!["Sheet1!C1".to_string()]]);
 }
 
+/// Rows of the running balances through lookups (one more than the 1,448 from which the
+/// forward INDEX ledger failed).
+const LEDGER_ROWS: u32 = 1_500;
+
+/// The ledger's amounts: row (or column) `k` adds this; the balance at `n` is their sum to `n`.
+fn amount(k: u32) -> f64 {
+    ((k * 7) % 11) as f64
+}
+
+/// A workbook of running balances, each line's balance its amount plus the balance a lookup
+/// of the line before finds: on Sheet1 down the rows by VLOOKUP (C), LOOKUP (D),
+/// INDEX/MATCH (E) and XLOOKUP (F); on Sheet2 along the columns by HLOOKUP; and in Sheet1!G1
+/// a lookup that finds its own cell, a true cycle.
+fn write_lookup_ledgers(path: &Path) {
+    use rust_xlsxwriter::Formula;
+    let mut book = rust_xlsxwriter::Workbook::new();
+    let down = book.add_worksheet();
+    down.set_formula_result_default("");
+    let n = LEDGER_ROWS;
+    for r in 1..=n {
+        let row = r - 1;
+        down.write_number(row, 0, r as f64).unwrap();
+        down.write_number(row, 1, amount(r)).unwrap();
+        let formulas = if r == 1 {
+            ["B1".to_string(), "B1".to_string(), "B1".to_string(), "B1".to_string()]
+        } else {
+            [
+                format!("VLOOKUP(A{r}-1,$A:$C,3,FALSE)+B{r}"),
+                format!("LOOKUP(A{r}-1,$A$1:$A${n},D$1:D${n})+B{r}"),
+                format!("INDEX(E:E,MATCH(A{r}-1,$A:$A,0))+B{r}"),
+                format!("_xlfn.XLOOKUP(A{r}-1,$A:$A,F:F)+B{r}"),
+            ]
+        };
+        for (col, f) in (2..).zip(formulas) {
+            down.write_formula(row, col, Formula::new(f)).unwrap();
+        }
+    }
+    down.write_formula(0, 6, Formula::new("VLOOKUP(1,$A$1:$G$1,7,FALSE)+1")).unwrap();
+    let along = book.add_worksheet();
+    along.set_formula_result_default("");
+    for c in 1..=n {
+        let (col, name) = ((c - 1) as u16, ncsheet::formula::address::column_name(c - 1));
+        along.write_number(0, col, c as f64).unwrap();
+        along.write_number(1, col, amount(c)).unwrap();
+        let f = if c == 1 { "A2".to_string() } else { format!("HLOOKUP({name}1-1,$1:$3,3,FALSE)+{name}2") };
+        along.write_formula(2, col, Formula::new(f)).unwrap();
+    }
+    book.save(path).unwrap();
+}
+
+/// LibreOffice (headless, recalculating on load; required on CI) computes every ledger but
+/// XLOOKUP's (LibreOffice 7 has none), and its results are the sums of the amounts: a lookup
+/// reads the column it searches and only the cell it returns, so none is a cycle. The lookup
+/// finding its own cell is one for both (LibreOffice: Err:522).
+#[test]
+fn running_balances_through_lookups_are_no_cycle_as_libreoffice_computes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("ledgers.xlsx");
+    write_lookup_ledgers(&file);
+    let ours = ncsheet::io::xlsx::load(&file).unwrap();
+    let wb = &ours.workbook;
+    let mut balance = 0.0;
+    for k in 1..=LEDGER_ROWS {
+        balance += amount(k);
+        for col in ["C", "D", "E", "F"] {
+            assert_eq!(wb.value(0, parse_cell(&format!("{col}{k}")).unwrap()), Value::Number(balance), "{col}{k}");
+        }
+        let along = ncsheet::formula::address::Pos::new(2, k - 1);
+        assert_eq!(wb.value(1, along), Value::Number(balance), "Sheet2 column {k}");
+    }
+    assert_eq!(wb.cycles(), vec![vec!["Sheet1!G1".to_string()]]);
+    let Some(recalculated) = common::libreoffice_recalculated(&file, dir.path()) else {
+        eprintln!("skipped the comparison with LibreOffice: soffice is not installed");
+        return;
+    };
+    let theirs = ncsheet::io::xlsx::load(&recalculated).unwrap();
+    let mut compared = 0;
+    for cached in &theirs.cached {
+        let place = format!("sheet {} {}", cached.sheet, cached.pos);
+        match (cached.sheet, cached.pos.col) {
+            (0, 5) => continue,
+            (0, 6) => assert!(matches!(cached.value, Value::Error(_)), "{place}: {:?}", cached.value),
+            _ => assert_eq!(wb.value(cached.sheet, cached.pos), cached.value, "{place}"),
+        }
+        compared += 1;
+    }
+    assert_eq!(compared, 4 * LEDGER_ROWS as usize + 1, "LibreOffice's results of every ledger");
+}
+
 #[test]
 fn row_and_columns_over_their_own_spill_range_spill() {
     // Excel spills these: they read where the range is, not what it holds.

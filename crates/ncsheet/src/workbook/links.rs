@@ -2,6 +2,7 @@
 //! through a range node for a large one), added and removed as formulas come and go, rebuilt
 //! when a name changes meaning, and moved when INDIRECT or OFFSET reach somewhere new.
 
+use super::shared::Part;
 use super::*;
 use crate::formula::ast::{Reference, SheetRef};
 
@@ -14,11 +15,12 @@ impl Workbook {
     pub(super) fn for_each_precedent(&self, id: u32, f: &mut dyn FnMut(SheetId, Rect)) {
         let cell = &self.cells[id as usize];
         let formula = self.formulas.get(cell.formula);
-        for r in formula.refs.iter() {
+        for &(ref r, part) in formula.refs.iter() {
+            let mut f = |sheet, rect| f(sheet, part_of(rect, part));
             if let Some((sheet, rect)) = resolve_static(r, cell.sheet, cell.pos) {
                 f(sheet, rect);
             } else if let SheetRef::Span(first, last) = r.sheet {
-                self.span_precedents(r, (first, last), cell.pos, Reference::resolve, f);
+                self.span_precedents(r, (first, last), cell.pos, Reference::resolve, &mut f);
             }
         }
         let mut seen = Vec::new();
@@ -169,6 +171,15 @@ impl Workbook {
                 self.link(id);
             }
         }
+    }
+}
+
+/// The cells of `rect` a formula reads whatever it computes (see [`Part`]).
+fn part_of(rect: Rect, part: Part) -> Rect {
+    match part {
+        Part::Whole => rect,
+        Part::FirstColumn => Rect { first: rect.first, last: Pos::new(rect.last.row, rect.first.col) },
+        Part::FirstRow => Rect { first: rect.first, last: Pos::new(rect.first.row, rect.last.col) },
     }
 }
 

@@ -13,6 +13,7 @@
 use std::rc::Rc;
 
 use crate::eval::functions;
+use crate::eval::functions::Searched;
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference, SheetId, SheetRef};
 use crate::formula::parse::ParseError;
@@ -22,8 +23,9 @@ use super::graph::FxMap;
 /// One parsed formula and what the dependency graph needs of it.
 pub struct SharedFormula {
     pub expr: Rc<Expr>,
-    /// The references in the tree, so edges are found without walking it again.
-    pub refs: Rc<[Reference]>,
+    /// The references in the tree with the part of each that is read whatever the cell
+    /// computes, so edges are found without walking it again.
+    pub refs: Rc<[(Reference, Part)]>,
     /// Uses a defined name (its references are looked up when edges are built), as seen from
     /// the given sheet (`None`: the formula's own).
     pub names: Rc<[(Rc<str>, Option<SheetId>)]>,
@@ -34,17 +36,40 @@ pub struct SharedFormula {
     pub volatile: bool,
 }
 
-/// The reference nodes of `expr` that are such a first argument.
-fn position_only_refs(expr: &Expr) -> Vec<*const Expr> {
+/// How much of a reference a formula cell reads whatever it computes: its graph edge.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Part {
+    Whole,
+    /// VLOOKUP's table: the column searched (the cell returned is linked at run time).
+    FirstColumn,
+    /// HLOOKUP's table: the row searched.
+    FirstRow,
+}
+
+/// The reference nodes of `expr` read only in part, each with the part that is an edge
+/// (`None`: no edge).
+fn partly_read_refs(expr: &Expr) -> Vec<(*const Expr, Option<Part>)> {
     let mut out = Vec::new();
     expr.visit(&mut |e| {
         if let ExprKind::Call(id, args) = &e.kind {
-            if let Some(first) = args.first().filter(|a| matches!(a.kind, ExprKind::Ref(_))) {
-                // Read for where it is, not for what it holds (FnSpec::position_arg): an edge
-                // from the whole reference made `B3 = INDEX(B:B,ROW()-1)+A3` a cycle through
-                // every cell of column B, and `=ROW(A1:A3)` in A1 a reader of its own spill.
-                if functions::spec(*id).position_arg {
-                    out.push(first as *const Expr);
+            let spec = functions::spec(*id);
+            let written_as_ref = |i: usize| args.get(i).filter(|a| matches!(a.kind, ExprKind::Ref(_)));
+            // Read for where it is, not for what it holds (FnSpec::position_arg): an edge
+            // from the whole reference made `B3 = INDEX(B:B,ROW()-1)+A3` a cycle through
+            // every cell of column B, and `=ROW(A1:A3)` in A1 a reader of its own spill.
+            if let Some(first) = written_as_ref(0).filter(|_| spec.position_arg) {
+                out.push((first as *const Expr, None));
+            }
+            // Read where searched and where picked (FnSpec::picked_arg): an edge from the
+            // whole return column made `C3 = XLOOKUP(A3-1,A:A,C:C)+B3` filled down a cycle.
+            if let Some(picked) = spec.picked_arg {
+                if let Some(arg) = written_as_ref(picked.arg as usize) {
+                    let part = match picked.searched {
+                        Searched::Nothing => None,
+                        Searched::FirstColumn => Some(Part::FirstColumn),
+                        Searched::FirstRow => Some(Part::FirstRow),
+                    };
+                    out.push((arg as *const Expr, part));
                 }
             }
         }
@@ -57,11 +82,15 @@ impl SharedFormula {
         let mut refs = Vec::new();
         let mut names = Vec::new();
         let mut volatile = false;
-        let positions = position_only_refs(&expr);
+        let partly = partly_read_refs(&expr);
+        let part_of = |e: &Expr| partly.iter().find(|(p, _)| std::ptr::eq(*p, e)).map_or(Some(Part::Whole), |p| p.1);
         expr.visit(&mut |e| match &e.kind {
-            ExprKind::Ref(_) if positions.contains(&(e as *const Expr)) => {}
-            // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
-            crate::formula::ast::ExprKind::Ref(r) if !refs.contains(r) => refs.push(r.clone()),
+            crate::formula::ast::ExprKind::Ref(r) => {
+                // A reference read twice (`IF(C1>1,C1-1,C1+1)`) is one edge of the graph.
+                if let Some(part) = part_of(e).filter(|&part| !refs.contains(&(r.clone(), part))) {
+                    refs.push((r.clone(), part));
+                }
+            }
             crate::formula::ast::ExprKind::Name(n) => names.push((n.clone(), None)),
             // `bump(1, 2)`: a named LAMBDA, whose cells are read as a name's are.
             ExprKind::UnknownCall(n, _) => names.push((n.clone(), None)),

@@ -6,7 +6,7 @@
 
 pub use super::args::*;
 pub use super::scalar::*;
-pub use super::{find, ArgSet, FnSpec, Outside, Registry, MANY};
+pub use super::{find, ArgSet, FnSpec, Outside, Registry, Searched, MANY};
 pub use crate::eval::evaluator::{
     bind_own_name, broadcast2, broadcast_whole, comparison_holds, number_result, power, Ctx, Env, Operand, RowHidden,
 };

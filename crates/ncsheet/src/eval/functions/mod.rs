@@ -59,6 +59,24 @@ pub enum FnKind {
 /// Upper bound for "any number of arguments" (Excel allows 255).
 pub const MANY: usize = 255;
 
+/// See [`FnSpec::picked_arg`].
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct PickedArg {
+    pub arg: u8,
+    pub searched: Searched,
+}
+
+/// The part of a picked argument a lookup reads whatever it finds: a graph edge.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Searched {
+    /// None of it (XLOOKUP's and LOOKUP's return arrays).
+    Nothing,
+    /// Its first column (VLOOKUP's table).
+    FirstColumn,
+    /// Its first row (HLOOKUP's table).
+    FirstRow,
+}
+
 #[derive(Clone, Copy)]
 pub struct FnSpec {
     pub name: &'static str,
@@ -99,6 +117,11 @@ pub struct FnSpec {
     /// holds (ROW, ROWS, ISREF …; INDEX and OFFSET link the cells they return at run time): no
     /// graph edge.
     pub position_arg: bool,
+    /// An argument, written as a reference, whose cells are read only where the result is
+    /// picked (XLOOKUP's return array, VLOOKUP's columns past the first): the graph links the
+    /// part it searches, the body links the cells it returns at run time, as INDEX does. A
+    /// running balance `C3 = XLOOKUP(A3-1,A:A,C:C)+B3` reads one cell of C, not a cycle.
+    pub picked_arg: Option<PickedArg>,
     /// Its place in the .xls format's function table (MS-XLS 2.5.198.17 `Ftab`), for the
     /// functions Excel 97 had: the .xls reader knows a function by it.
     pub biff: Option<Biff>,
@@ -231,6 +254,7 @@ impl FnSpec {
             range_args: ArgSet::NONE,
             reads: Outside::Nothing,
             position_arg: false,
+            picked_arg: None,
             biff: None,
             vba_params: &[],
         }
@@ -286,6 +310,12 @@ impl FnSpec {
     /// [`FnSpec::position_arg`]).
     pub const fn position_arg(self) -> FnSpec {
         FnSpec { position_arg: true, ..self }
+    }
+
+    /// The same function, reading argument `arg` only where it searches (`searched`) and at
+    /// the cells it returns (see [`FnSpec::picked_arg`]).
+    pub const fn picks_from(self, arg: u8, searched: Searched) -> FnSpec {
+        FnSpec { picked_arg: Some(PickedArg { arg, searched }), ..self }
     }
 
     /// The same function, number `number` of the .xls format's function table; a call stored

@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
-use crate::eval::functions::api::{as_block, lift_values, number_or, ArgSet, Ctx, FnSpec, Operand};
+use crate::eval::functions::api::{as_block, lift_values, number_or, ArgSet, Ctx, FnSpec, Operand, Searched};
 use crate::eval::functions::lookup::key_index::{worth_indexing, ExactIndex, OrderIndex};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
@@ -51,7 +51,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VLOOKUP(value, table, column, [approximate])",
         "Finds value in the table's first column and returns that row's column-th item",
     )
-    .biff(102).array_args(ArgSet::only(1)),
+    .biff(102).array_args(ArgSet::only(1)).picks_from(1, Searched::FirstColumn),
     FnSpec::value(
         "HLOOKUP",
         3,
@@ -60,7 +60,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "HLOOKUP(value, table, row, [approximate])",
         "Finds value in the table's first row and returns that column's row-th item",
     )
-    .biff(101).array_args(ArgSet::only(1)),
+    .biff(101).array_args(ArgSet::only(1)).picks_from(1, Searched::FirstRow),
     FnSpec::reference(
         "XLOOKUP",
         3,
@@ -68,7 +68,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         xlookup,
         "XLOOKUP(value, lookup_array, return_array, [if_not_found], [match_mode], [search_mode])",
         "The return_array row or column at value's position in lookup_array",
-    ).future().dynamic(),
+    ).future().dynamic().picks_from(2, Searched::Nothing),
     FnSpec::value(
         "XMATCH",
         2,
@@ -85,7 +85,7 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "LOOKUP(value, lookup_vector, [result_vector])",
         "Approximate lookup in sorted data: the result at the last position not above value",
     )
-    .biff(28).array_args(ArgSet::from(1)),
+    .biff(28).array_args(ArgSet::from(1)).picks_from(2, Searched::Nothing),
     FnSpec::value(
         "ROW",
         0,
@@ -536,11 +536,17 @@ fn hlookup(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
     // A one-cell reference is a 1×1 table; typed text is no table at all.
+    let mut place = None;
     let table = match ctx.operand(&args[1]) {
         Operand::Value(Value::Text(_)) => Err(XlError::Value),
+        Operand::Ref(sheet, rect) => {
+            place = Some((sheet, rect));
+            grid_of(ctx, Operand::Ref(sheet, rect))
+        }
         operand => grid_of(ctx, operand),
     };
     let offset = ctx.eval(&args[2]);
+    let one_result = !matches!(key, Value::Array(_)) && !matches!(offset, Value::Array(_));
     let approximate = approximate_flag(ctx, args.get(3))?;
     let dates = ctx.dates();
     let table = table.map(|t| TableLookup::new(t, by_row));
@@ -548,13 +554,22 @@ fn table_lookup(ctx: &mut Ctx, args: &[Expr], by_row: bool) -> XlResult<Value> {
     let looked = Cell::new(table.as_ref().map_or(0, |t| t.keys.len()));
     let keys = if approximate { &Value::Blank } else { &key };
     let exact = table.as_ref().map(|t| Haystack::new(&t.keys, keys));
+    let picked = Cell::new(None);
     // An array of columns returns each (`SUM(VLOOKUP(x,T,{2,3},0))`), as in Excel.
     let found = lift_values(&[key, offset], &|v| {
         let key = lookup_key(&v[0])?;
         let (table, exact) = (table.as_ref().map_err(|e| *e)?, exact.as_ref().map_err(|e| **e)?);
-        table.find(&key, &v[1], approximate, dates, exact, &looked)
+        let (line, at) = table.find(&key, &v[1], approximate, dates, exact, &looked)?;
+        picked.set(Some(if by_row { (at, line) } else { (line, at) }));
+        Ok(table.at(line, at).clone())
     });
     ctx.charge(looked.get());
+    if let (Some((sheet, rect)), Some((row, col))) = (place, picked.get()) {
+        // Beyond the searched line (linked in the graph: FnSpec::picked_arg) only the cell
+        // returned is read; many results may come from anywhere in the table.
+        let cell = Pos::new(rect.first.row + row as u32, rect.first.col + col as u32);
+        ctx.note_dynamic_ref(sheet, if one_result { Rect { first: cell, last: cell } } else { rect });
+    }
     found
 }
 
@@ -581,8 +596,8 @@ impl TableLookup {
         }
     }
 
-    /// The item at `offset` in the line `key` is found on; the items the search looked at
-    /// are added to `looked`.
+    /// Where the item at `offset` in the line `key` is found on is (line, place in it); the
+    /// items the search looked at are added to `looked`.
     fn find(
         &self,
         key: &Value,
@@ -591,7 +606,7 @@ impl TableLookup {
         dates: DateSystem,
         exact: &Haystack,
         looked: &Cell<usize>,
-    ) -> XlResult<Value> {
+    ) -> XlResult<(usize, usize)> {
         let offset = to_number(offset, dates)?.trunc();
         let width = if self.by_row { self.table.rows } else { self.table.cols };
         if offset < 1.0 {
@@ -606,7 +621,7 @@ impl TableLookup {
             exact.find_exact(key, true, false, looked)
         };
         let i = found.ok_or(XlError::NA)?;
-        Ok(self.at(i, offset as usize - 1).clone())
+        Ok((i, offset as usize - 1))
     }
 }
 
@@ -674,6 +689,10 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
             None => fallback.clone().ok_or(XlError::NA),
         });
         ctx.charge(looked.get());
+        // Each key may pick anywhere in the return array (FnSpec::picked_arg: no edge).
+        if let Some((sheet, rect)) = result.place {
+            ctx.note_dynamic_ref(sheet, rect);
+        }
         return Ok(Operand::Value(picked?));
     }
     let found = mode.find(&key, &items, &looked);
@@ -682,7 +701,11 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
         Some(i) => Ok(match result.place {
             Some((sheet, rect)) => {
                 let (rows, cols) = line_span(&result, i, vertical);
-                Operand::Ref(sheet, sub_rect(rect, rows, cols))
+                // The line returned is the only part of the return array read: its link,
+                // made at run time (FnSpec::picked_arg).
+                let line = sub_rect(rect, rows, cols);
+                ctx.note_dynamic_ref(sheet, line);
+                Operand::Ref(sheet, line)
             }
             None => Operand::Value(result_line(&result, i, vertical)),
         }),
@@ -774,9 +797,14 @@ fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn lookup_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let key = ctx.eval(&args[0]);
     let table = grid_of_expr(ctx, &args[1])?;
+    let one_key = !matches!(key, Value::Array(_));
+    let mut place = None;
     let (keys, results) = match args.get(2) {
         Some(e) => {
-            let results = grid_of_expr(ctx, e)?;
+            let operand = ctx.operand(e);
+            let at = if let Operand::Ref(sheet, rect) = operand { Some((sheet, rect)) } else { None };
+            let results = grid_of(ctx, operand)?;
+            place = at.map(|(sheet, rect)| (sheet, rect, results.cols));
             let keys = line_of(&table).ok_or(XlError::NA)?.to_vec();
             (keys, results.data.clone())
         }
@@ -791,12 +819,21 @@ fn lookup_fn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     };
     // The keys and results are copied, and each key's search counted.
     let looked = Cell::new(keys.len() + results.len());
+    let picked = Cell::new(None);
     let found = lift_values(&[key], &|v| {
         let key = lookup_key(&v[0])?;
         let i = binary_search_last_not_after(&key, &keys, counting(&looked, ascending)).ok_or(XlError::NA)?;
-        results.get(i).cloned().ok_or(XlError::NA)
+        let result = results.get(i).cloned().ok_or(XlError::NA)?;
+        picked.set(Some(i));
+        Ok(result)
     });
     ctx.charge(looked.get());
+    if let (Some((sheet, rect, cols)), Some(i)) = (place, picked.get()) {
+        // Only the result returned is read of the result vector (FnSpec::picked_arg); its
+        // items are numbered across the rows read.
+        let cell = Pos::new(rect.first.row + (i / cols) as u32, rect.first.col + (i % cols) as u32);
+        ctx.note_dynamic_ref(sheet, if one_key { Rect { first: cell, last: cell } } else { rect });
+    }
     found
 }
 
