@@ -772,6 +772,40 @@ fn a_dictionary_key_is_renamed_in_place() {
     assert_eq!(out.printed, ["CairoFalsea,b,d", " 457 Athens", "True 3 "]);
 }
 
+// Scripting's Dictionary keeps a key as the Variant given and compares numbers by value: what
+// Wine's scrrun tests check against Windows' own scrrun.dll (dlls/scrrun/tests/dictionary.c):
+// `test_Exists`, the Integer 0 and the Single 0 are one key (the second Add fails,
+// CTL_E_KEY_ALREADY_EXISTS, 457); `test_Add`, the Singles 2175 and 6259 are two keys and the
+// Long 2175 is the first's; `test_Keys` and `test_IEnumVARIANT`, Keys and For Each give a key
+// back with its type (VT_R4, VT_I4, VT_I2); `test_hash_value`, a LongLong (VT_I8) is refused
+// with CTL_E_ILLEGALFUNCTIONCALL (5), Empty and Null are keys. A text key never matches a
+// number ("1" and 1, `dictionary_members`); Null matches only Null.
+#[test]
+fn dictionary_keys_keep_their_type_and_numbers_match_by_value() {
+    let out = printed(
+        "    Set d = CreateObject(\"Scripting.Dictionary\")\n    On Error Resume Next\n    d.Add CInt(0), \"zero\"\n\
+         \x20   d.Add CSng(0), \"again\"\n    Debug.Print Err.Number; d.Exists(CSng(0)); d.Count\n    Err.Clear\n\
+         \x20   d.Add CSng(2175), 1\n    d.Add CSng(6259), 2\n    d.Add CLng(2175), 3\n    Debug.Print Err.Number; d.Count\n    Err.Clear\n\
+         \x20   d.Add 5^, 4\n    Debug.Print Err.Number; d.Count\n    Err.Clear\n\
+         \x20   d.Add Null, \"null\"\n    Debug.Print Err.Number; d.Exists(Null); d.Count\n\
+         \x20   k = d.Keys\n    Debug.Print TypeName(k(0)); \" \"; TypeName(k(1)); \" \"; VarType(d.Keys()(3))\n\
+         \x20   s = \"\"\n    For Each key In d\n        s = s & TypeName(key) & \";\"\n    Next\n    Debug.Print s",
+    );
+    assert_eq!(
+        out,
+        [" 457 True 1 ", " 457  3 ", " 5  3 ", " 0 True 4 ", "Integer Single  1 ", "Integer;Single;Single;Null;"]
+    );
+    // Wine's scrrun dictionary.c: `numeric_key_eq` compares two numbers as Singles (True is
+    // -1), and `empty_matches_key` matches Empty with a numeric zero or "" both ways.
+    let out = printed(
+        "    Set d = CreateObject(\"Scripting.Dictionary\")\n    d.Add 1, \"one\"\n    d.Add True, \"true\"\n\
+         \x20   Debug.Print d.Exists(1.00000001); d.Exists(1.001); d(-1)\n    d.Add Empty, \"empty\"\n\
+         \x20   Debug.Print d.Exists(0); d.Exists(\"\"); d.Exists(False); d.Count\n    On Error Resume Next\n    d.Add 0#, 1\n\
+         \x20   Debug.Print Err.Number",
+    );
+    assert_eq!(out, ["TrueFalsetrue", "TrueTrueTrue 3 ", " 457 "]);
+}
+
 // Objects as Dictionary keys ("Add method (Dictionary)": a key may be any type but an
 // array) are not ncsheet's: its keys are values, and Keys gives them as an array of values.
 // The macro is refused with the reason, not keyed by something else.

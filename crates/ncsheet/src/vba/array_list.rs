@@ -208,7 +208,7 @@ impl Interp<'_, '_> {
             "item" => {
                 let args = self.member_args(link, &["index"])?;
                 let index = self.eval(self.required(args[0], link, "index")?)?;
-                self.store_item(h, &index, link.span).map(super::collections::var_obj)
+                self.store_item(h, &super::collections::Key::plain(index), link.span).map(super::collections::var_obj)
             }
             "insert" => {
                 let args = self.member_args(link, &["index", "value"])?;

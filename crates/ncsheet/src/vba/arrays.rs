@@ -600,6 +600,8 @@ impl Interp<'_, '_> {
         let ExprKind::Host(id) = &base.kind else { return self.var_of(base, false) };
         match &self.module.nodes[*id as usize] {
             Node::Call { proc, args, span } => self.call_record(*proc, args, *span),
+            // `d.Keys()(0)`: Keys and Items are zero-based, their items keep their types.
+            Node::Path(path) if self.is_keys_member(base) => self.keys_var(path),
             Node::Path(path) => {
                 let mut ctx = self.ctx();
                 let last = path.links.last().filter(|l| l.name.eq_ignore_ascii_case("item") && l.args.is_some());
@@ -618,8 +620,6 @@ impl Interp<'_, '_> {
                 self.take_pending()?;
                 match obj? {
                     o @ (Obj::Store(_) | Obj::Range(..)) => Ok(Var::Obj(o)),
-                    // `d.Keys()(0)`: Keys and Items are zero-based.
-                    Obj::Value(Value::Array(a)) if self.is_keys_member(base) => Ok(Var::Array(VArray::row(a, 0))),
                     Obj::Value(v) => Ok(super::value::array_var(v, self.option_base())),
                     other => Ok(Var::Obj(other)),
                 }

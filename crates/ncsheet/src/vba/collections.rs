@@ -18,7 +18,7 @@ use super::ast::{Arg, Class, Link, Node, Span};
 use super::interp::{Fault, Interp, Run};
 use super::objects::lower;
 use super::typing::Declared;
-use super::value::{Obj, Var};
+use super::value::{Obj, VArray, Var};
 
 /// Where a Collection's, a Dictionary's or an object's item goes, as a refusal names it.
 pub(super) const STORE_ITEM: &str = "an item of a Collection, a Dictionary or an object";
@@ -33,19 +33,65 @@ const NO_KEY_TO_CHANGE: (u32, &str) = (32811, "Method 'Key' of object 'IDictiona
 /// What one entry costs the memory budget besides its key's text and its item.
 const ENTRY_BYTES: u64 = 64;
 
-/// A key as compared: text in lower case when the comparison ignores case.
+/// A key as compared: text in lower case when the comparison ignores case; a number (a
+/// Boolean's too, True being -1) as the Single nearest to it. Scripting compares numeric keys
+/// of any type by value after converting both to Single (Wine's scrrun `numeric_key_eq`; its
+/// `get_HashVal` hashes the key as a FLOAT, which Wine's tests check against Windows' DLL:
+/// the Integer 0 and the Single 0 are one key, the Long 2175 is the Single 2175's key), so
+/// Doubles closer than a Single tells apart are one key. A number past the Single's range
+/// keeps its Double.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 enum KeyForm {
     Text(String),
-    Number(u64),
-    Bool(bool),
+    Single(u32),
+    Wide(u64),
     Blank,
+    Null,
+}
+
+/// The form of a number key (see [`KeyForm`]); -0 is 0.
+fn number_form(n: f64) -> KeyForm {
+    let single = n as f32;
+    if single.is_finite() {
+        KeyForm::Single((single + 0.0).to_bits())
+    } else {
+        KeyForm::Wide((n + 0.0).to_bits())
+    }
+}
+
+/// The forms an Empty key matches besides its own, or that match an Empty key: Scripting's
+/// Empty matches "the zero/default value of the other key's type: any numeric zero, the
+/// empty string, or another Empty" (Wine's scrrun `empty_matches_key`; Windows hashes Empty,
+/// 0 and "" alike, to 0, in Wine's `test_hash_value`).
+fn empty_alike(form: &KeyForm) -> Vec<KeyForm> {
+    match form {
+        KeyForm::Blank => vec![KeyForm::Single(0), KeyForm::Text(String::new())],
+        KeyForm::Single(0) => vec![KeyForm::Blank],
+        KeyForm::Text(t) if t.is_empty() => vec![KeyForm::Blank],
+        _ => Vec::new(),
+    }
+}
+
+/// A key as the macro gave it: its value and the type its number has, which Scripting keeps
+/// (the key is the VARIANT given: `Keys` gives an Integer key back as an Integer, a Date as
+/// a Date; Wine's `test_Keys` checks VT_R4 and VT_I4 against Windows).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Key {
+    pub value: Value,
+    pub held: Declared,
+}
+
+impl Key {
+    /// A key whose type says nothing past its value (a Collection's text, an index).
+    pub(super) fn plain(value: Value) -> Key {
+        Key { value, held: Declared::Variant }
+    }
 }
 
 /// One entry: its key (a Collection's item may have none), its item, and the type the item's
 /// number has, which a Variant item keeps ([MS-VBAL] 2.1.1.1: a Date, VarType 7; an Integer
 /// 5, VarType 2); `Variant` for any other item.
-pub(super) type Entry = (Option<Value>, Var, Declared);
+pub(super) type Entry = (Option<Key>, Var, Declared);
 
 /// The entries of a Collection or a Dictionary, in the order added.
 #[derive(Debug)]
@@ -188,29 +234,65 @@ impl Handle {
         let store = self.0.borrow();
         match store.class {
             Class::Collection | Class::ArrayList => store.live().map(|(_, item, _)| item.clone()).collect(),
-            Class::Dictionary => store.live().map(|(k, _, _)| Var::Value(k.clone().unwrap_or(Value::Blank))).collect(),
+            Class::Dictionary => store.live().map(|(k, _, _)| Var::Value(key_value(k))).collect(),
         }
     }
 
     /// The type of the number each of [`Handle::each`]'s items holds (a Date, the Integer of
-    /// `c.Add 5`); a Dictionary's keys are not marked.
+    /// `c.Add 5`, a Dictionary's Integer key).
     pub(super) fn each_held(&self) -> Vec<Declared> {
         let store = self.0.borrow();
         match store.class {
             Class::Collection | Class::ArrayList => store.live().map(|e| e.2).collect(),
-            Class::Dictionary => store.live().map(|_| Declared::Variant).collect(),
+            Class::Dictionary => {
+                store.live().map(|(k, _, _)| k.as_ref().map_or(Declared::Variant, |k| k.held)).collect()
+            }
+        }
+    }
+
+    /// A Dictionary's `Keys` (or `Items`) as a macro's variable receives it: zero-based, each
+    /// item keeping the type its number has ("Keys method": "returns an array").
+    pub(super) fn listing(&self, keys: bool) -> VArray {
+        let store = self.0.borrow();
+        let (values, held): (Vec<Value>, Vec<Declared>) = store
+            .live()
+            .map(|(k, item, held)| match keys {
+                true => (key_value(k), k.as_ref().map_or(Declared::Variant, |k| k.held)),
+                false => (var_value(item), *held),
+            })
+            .unzip();
+        let mut array = VArray::row(Rc::new(Array::row(values)), 0);
+        for (k, held) in held.into_iter().enumerate() {
+            array.mark_held(k, held);
+        }
+        array
+    }
+
+    /// The type of the number the `n`-th key (or item) holds.
+    pub(super) fn listed_held(&self, keys: bool, n: usize) -> Declared {
+        let store = self.0.borrow();
+        let entry = store.live().nth(n);
+        match (entry, keys) {
+            (Some((Some(k), _, _)), true) => k.held,
+            (Some((_, _, held)), false) => *held,
+            _ => Declared::Variant,
         }
     }
 
     /// The memory the entries hold besides their items: keys' texts and each entry's share.
     pub fn own_bytes(&self) -> u64 {
         let store = self.0.borrow();
-        store.live().map(|(k, _, _)| ENTRY_BYTES + key_bytes(k.as_ref())).sum()
+        store.live().map(|(k, _, _)| ENTRY_BYTES + key_bytes(k.as_ref().map(|k| &k.value))).sum()
     }
 
     pub fn items(&self) -> Vec<Var> {
         self.0.borrow().live().map(|(_, item, _)| item.clone()).collect()
     }
+}
+
+/// The value of an entry's key (Empty for a Collection's item added without one).
+fn key_value(key: &Option<Key>) -> Value {
+    key.as_ref().map_or(Value::Blank, |k| k.value.clone())
 }
 
 fn key_bytes(key: Option<&Value>) -> u64 {
@@ -231,9 +313,10 @@ impl Store {
         Ok(match key {
             Value::Text(t) if ignore_case => KeyForm::Text(t.to_lowercase()),
             Value::Text(t) => KeyForm::Text(t.to_string()),
-            Value::Number(n) => KeyForm::Number((n + 0.0).to_bits()),
-            Value::Bool(b) => KeyForm::Bool(*b),
+            Value::Number(n) => number_form(*n),
+            Value::Bool(b) => number_form(if *b { -1.0 } else { 0.0 }),
             Value::Blank => KeyForm::Blank,
+            Value::Null => KeyForm::Null,
             other => return Err(format!("{other} cannot be a key")),
         })
     }
@@ -256,8 +339,15 @@ impl Store {
     }
 
     /// The place of the entry with `key`.
+    /// A Dictionary's Empty key and a zero or empty-text key match each other: the first
+    /// added of those it matches.
     fn position(&self, key: &Value) -> Result<Option<usize>, String> {
-        Ok(self.index.get(&self.form(key)?).copied())
+        let form = self.form(key)?;
+        let own = self.index.get(&form).copied();
+        if self.class != Class::Dictionary {
+            return Ok(own);
+        }
+        Ok(empty_alike(&form).iter().filter_map(|f| self.index.get(f).copied()).chain(own).min())
     }
 
     /// The place of the entry at 0-based position `n` (`n < len()`).
@@ -295,15 +385,15 @@ impl Store {
         self.entries.retain(Option::is_some);
         self.gone = 0;
         let forms: Vec<(KeyForm, usize)> = (self.live().enumerate())
-            .filter_map(|(i, (k, _, _))| k.as_ref().and_then(|k| self.form(k).ok()).map(|f| (f, i)))
+            .filter_map(|(i, (k, _, _))| k.as_ref().and_then(|k| self.form(&k.value).ok()).map(|f| (f, i)))
             .collect();
         self.index = forms.into_iter().collect();
         self.live = LiveCounts::full(self.entries.len());
     }
 
     /// Adds an entry after the last.
-    pub(super) fn push(&mut self, key: Option<Value>, item: Var) {
-        if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
+    pub(super) fn push(&mut self, key: Option<Key>, item: Var) {
+        if let Some(form) = key.as_ref().and_then(|k| self.form(&k.value).ok()) {
             self.index.insert(form, self.entries.len());
         }
         self.entries.push(Some((key, item, Declared::Variant)));
@@ -315,7 +405,7 @@ impl Store {
     /// After). Gives back the entries moved, which the caller counts as work
     /// ([`Interp::count_moved`]). The keys are not worked out again: that was 35 % of a
     /// loop of `c.Add x, Before:=1`.
-    pub(super) fn insert(&mut self, n: usize, key: Option<Value>, item: Var) -> usize {
+    pub(super) fn insert(&mut self, n: usize, key: Option<Key>, item: Var) -> usize {
         if n >= self.len() {
             self.push(key, item);
             return 0;
@@ -327,7 +417,7 @@ impl Store {
         for place in self.index.values_mut().filter(|place| **place >= n) {
             *place += 1;
         }
-        if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
+        if let Some(form) = key.as_ref().and_then(|k| self.form(&k.value).ok()) {
             self.index.insert(form, n);
         }
         self.entries.insert(n, Some((key, item, Declared::Variant)));
@@ -340,7 +430,7 @@ impl Store {
     /// on average however many entries there are.
     pub(super) fn remove(&mut self, at: usize) -> Option<Var> {
         let (key, item, _) = self.entries[at].take()?;
-        if let Some(form) = key.as_ref().and_then(|k| self.form(k).ok()) {
+        if let Some(form) = key.as_ref().and_then(|k| self.form(&k.value).ok()) {
             self.index.remove(&form);
         }
         self.gone += 1;
@@ -364,11 +454,11 @@ impl Store {
     }
 
     /// `d.Key(old) = new`: the entry at place `at` takes the key `new` and keeps its place.
-    fn rename(&mut self, at: usize, new: Value) -> Result<(), String> {
-        let form = self.form(&new)?;
+    fn rename(&mut self, at: usize, new: Key) -> Result<(), String> {
+        let form = self.form(&new.value)?;
         let entry = self.entries[at].as_mut().expect("a place holding an entry");
         let old = entry.0.replace(new);
-        if let Some(old) = old.and_then(|k| self.form(&k).ok()) {
+        if let Some(old) = old.and_then(|k| self.form(&k.value).ok()) {
             self.index.remove(&old);
         }
         self.index.insert(form, at);
@@ -463,12 +553,13 @@ impl Interp<'_, '_> {
                 let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let item_expr = self.required(args[1], link, "Item")?;
                 let item = self.item_var(item_expr)?;
-                if self.find(&h, &key, link.span)?.is_some() {
+                if self.find(&h, &key.value, link.span)?.is_some() {
                     return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
                 }
                 let held = self.item_held(item_expr, &item);
-                self.put(&h, key.clone(), item, link.span)?;
-                self.mark_store_held(&h, Some(&key), held, link.span)?;
+                let value = key.value.clone();
+                self.put(&h, key, item, link.span)?;
+                self.mark_store_held(&h, Some(&value), held, link.span)?;
                 blank
             }
             (_, "item") => {
@@ -478,7 +569,7 @@ impl Interp<'_, '_> {
             }
             (_, "remove") => {
                 let args = self.member_args(link, &["Key"])?;
-                let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
+                let key = self.store_key_value(self.required(args[0], link, "Key")?)?.value;
                 let at = match class {
                     Class::Collection | Class::ArrayList => self.collection_place(&h, &key, link.span)?,
                     Class::Dictionary => self
@@ -493,10 +584,10 @@ impl Interp<'_, '_> {
             (Class::Dictionary, "exists") => {
                 let args = self.member_args(link, &["Key"])?;
                 let key = self.store_key_value(self.required(args[0], link, "Key")?)?;
-                Ok(Obj::Value(Value::Bool(self.find(&h, &key, link.span)?.is_some())))
+                Ok(Obj::Value(Value::Bool(self.find(&h, &key.value, link.span)?.is_some())))
             }
-            (Class::Dictionary, "keys") => self.listed_or_one(h.each().iter().map(var_value).collect(), link),
-            (Class::Dictionary, "items") => self.listed_or_one(h.items().iter().map(var_value).collect(), link),
+            (Class::Dictionary, "keys") => self.listed_or_one(&h, true, link),
+            (Class::Dictionary, "items") => self.listed_or_one(&h, false, link),
             (Class::Dictionary, "removeall") => {
                 let removed = h.0.borrow_mut().take_items();
                 self.release_all(removed)?;
@@ -516,7 +607,11 @@ impl Interp<'_, '_> {
     /// The array is made whole at each call, and counted as work by its items, as a function
     /// making an array is: `d.Keys()(i)` over 100,000 keys in a loop made 10^10 items
     /// counting a statement a turn.
-    fn listed_or_one(&self, listed: Vec<Value>, link: &Link) -> Run<Obj> {
+    fn listed_or_one(&self, h: &Handle, keys: bool, link: &Link) -> Run<Obj> {
+        let listed: Vec<Value> = match keys {
+            true => h.each().iter().map(var_value).collect(),
+            false => h.items().iter().map(var_value).collect(),
+        };
         self.add_work(listed.len() as u64);
         let args = self.member_args(link, &["Index"])?;
         let Some(index) = args[0] else { return Ok(Obj::Value(zero_based(listed))) };
@@ -524,9 +619,35 @@ impl Interp<'_, '_> {
         let n = self.number_of(&v, &format!("the index of {}", link.name)).map_err(|m| self.fault_at(link.span, m))?;
         let i = n.round_ties_even();
         match listed.get(i as usize).filter(|_| i >= 0.0) {
-            Some(one) => Ok(Obj::Value(one.clone())),
+            Some(one) => {
+                self.gave.set(h.listed_held(keys, i as usize));
+                Ok(Obj::Value(one.clone()))
+            }
             None => Err(self.vba_error(link.span, OUT_OF_RANGE, &format!("{}({i})", link.name))),
         }
+    }
+
+    /// `k = d.Keys`, `d.Items()(i)`: the array whose items keep their types (an Integer key
+    /// reads back as an Integer), counted as work by its items as [`Interp::listed_or_one`]
+    /// counts; another object's `Keys` member as that object gives it.
+    pub(super) fn keys_var(&self, path: &super::ast::Path) -> Run<Var> {
+        let mut ctx = self.ctx();
+        let owner = self.path_until(&mut ctx, path, path.links.len() - 1);
+        self.take_pending()?;
+        let link = path.links.last().expect("a Keys member");
+        let obj = match owner? {
+            Obj::Store(h) if h.class() == Class::Dictionary => {
+                self.add_work(h.0.borrow().len() as u64);
+                return Ok(Var::Array(h.listing(link.name.eq_ignore_ascii_case("keys"))));
+            }
+            other => self.member(&mut ctx, other, link),
+        };
+        self.take_pending()?;
+        Ok(match obj? {
+            Obj::Value(Value::Array(a)) => Var::Array(VArray::row(a, 0)),
+            Obj::Value(v) => super::value::array_var(v, self.option_base()),
+            other => Var::Obj(other),
+        })
     }
 
     fn find(&self, h: &Handle, key: &Value, span: Span) -> Run<Option<usize>> {
@@ -534,8 +655,8 @@ impl Interp<'_, '_> {
     }
 
     /// Adds an entry at the end, counted against the memory budget.
-    fn put(&self, h: &Handle, key: Value, item: Var, span: Span) -> Run<()> {
-        self.charge(ENTRY_BYTES + key_bytes(Some(&key)) + super::budget::brought(&item), span)?;
+    fn put(&self, h: &Handle, key: Key, item: Var, span: Span) -> Run<()> {
+        self.charge(ENTRY_BYTES + key_bytes(Some(&key.value)) + super::budget::brought(&item), span)?;
         h.0.borrow_mut().push(Some(key), item);
         Ok(())
     }
@@ -549,12 +670,12 @@ impl Interp<'_, '_> {
             Some(e) => {
                 let v = self.eval(e)?;
                 let text = vba_text(&v).map_err(|e| self.fault_at(link.span, format!("Add: the key is {e}")))?;
-                Some(Value::Text(text))
+                Some(Key::plain(Value::Text(text)))
             }
             None => None,
         };
         if let Some(k) = &key {
-            if self.find(h, k, link.span)?.is_some() {
+            if self.find(h, &k.value, link.span)?.is_some() {
                 return Err(self.vba_error(link.span, DUPLICATE_KEY, "Add"));
             }
         }
@@ -566,7 +687,10 @@ impl Interp<'_, '_> {
             (None, Some(e)) => self.collection_index(h, &self.eval(e)?, link.span)? + 1,
             (None, None) => h.0.borrow().len(),
         };
-        self.charge(ENTRY_BYTES + key_bytes(key.as_ref()) + super::budget::brought(&item), link.span)?;
+        self.charge(
+            ENTRY_BYTES + key_bytes(key.as_ref().map(|k| &k.value)) + super::budget::brought(&item),
+            link.span,
+        )?;
         let mut store = h.0.borrow_mut();
         let last = at >= store.len();
         let moved = store.insert(at, key, item);
@@ -624,11 +748,11 @@ impl Interp<'_, '_> {
     /// `c(i)`, `c("k")`, `d(k)`: the item; a Dictionary adds a key it does not have, with
     /// Empty ("Item property": "If key is not found when attempting to return an existing
     /// item, a new key is created and its corresponding item is left empty").
-    pub(super) fn store_item(&self, h: &Handle, key: &Value, span: Span) -> Run<Var> {
+    pub(super) fn store_item(&self, h: &Handle, key: &Key, span: Span) -> Run<Var> {
         let at = match h.class() {
-            Class::Collection => self.collection_place(h, key, span)?,
-            Class::ArrayList => self.array_list_place(h, key, span)?,
-            Class::Dictionary => match self.find(h, key, span)? {
+            Class::Collection => self.collection_place(h, &key.value, span)?,
+            Class::ArrayList => self.array_list_place(h, &key.value, span)?,
+            Class::Dictionary => match self.find(h, &key.value, span)? {
                 Some(at) => at,
                 None => {
                     self.put(h, key.clone(), Var::Value(Value::Blank), span)?;
@@ -641,14 +765,9 @@ impl Interp<'_, '_> {
         Ok(item)
     }
 
-    /// Notes whether the item under `key` (a Collection's last item without one) is a Date.
-    pub(super) fn mark_store_date(&self, h: &Handle, key: Option<&Value>, date: bool, span: Span) -> Run<()> {
-        self.mark_store_held(h, key, if date { Declared::Date } else { Declared::Variant }, span)
-    }
-
     /// Notes the type of the number the item under `key` (a Collection's last item without
     /// one) holds.
-    fn mark_store_held(&self, h: &Handle, key: Option<&Value>, held: Declared, span: Span) -> Run<()> {
+    pub(super) fn mark_store_held(&self, h: &Handle, key: Option<&Value>, held: Declared, span: Span) -> Run<()> {
         let at = match key {
             Some(key) => self.find(h, key, span)?,
             None => h.0.borrow().entries.len().checked_sub(1),
@@ -670,15 +789,15 @@ impl Interp<'_, '_> {
     }
 
     /// `d(k) = v`, `d.Item(k) = v`: replaces the item, or adds the key ("Item property").
-    pub(super) fn set_store_item(&self, h: &Handle, key: &Value, item: Var, span: Span) -> Run<()> {
+    pub(super) fn set_store_item(&self, h: &Handle, key: &Key, item: Var, span: Span) -> Run<()> {
         if h.class() == Class::Collection {
             return Err(self.fault_at(span, "a Collection's items cannot be assigned: Remove and Add the item"));
         }
         if h.class() == Class::ArrayList {
-            let at = self.array_list_place(h, key, span)?;
+            let at = self.array_list_place(h, &key.value, span)?;
             return self.replace_item(h, at, item, span);
         }
-        match self.find(h, key, span)? {
+        match self.find(h, &key.value, span)? {
             Some(at) => self.replace_item(h, at, item, span),
             None => self.put(h, key.clone(), item, span),
         }
@@ -693,19 +812,19 @@ impl Interp<'_, '_> {
 
     /// `d.Key(old) = new` ("Key property"): the entry keeps its place and its item under the
     /// new key; a run-time error when `old` is not there, 457 when `new` already is.
-    fn change_key(&self, h: &Handle, old: &Value, new: Value, span: Span) -> Run<()> {
+    fn change_key(&self, h: &Handle, old: &Value, new: Key, span: Span) -> Run<()> {
         let at = self.find(h, old, span)?.ok_or_else(|| self.vba_error(span, NO_KEY_TO_CHANGE, "Key"))?;
-        if self.find(h, &new, span)?.is_some() {
+        if self.find(h, &new.value, span)?.is_some() {
             return Err(self.vba_error(span, DUPLICATE_KEY, "Key"));
         }
-        self.charge(key_bytes(Some(&new)), span)?;
+        self.charge(key_bytes(Some(&new.value)), span)?;
         h.0.borrow_mut().rename(at, new).map_err(|m| self.fault_at(span, m))
     }
 
     /// A Dictionary's key from its expression: a value. An object (a Collection, a
     /// Dictionary, a Range) is refused by name: ncsheet's keys are values, and `Keys` gives
     /// them as an array of values, which cannot hold objects.
-    pub(super) fn store_key_value(&self, e: &Expr) -> Run<Value> {
+    pub(super) fn store_key_value(&self, e: &Expr) -> Run<Key> {
         let object = match &e.kind {
             ExprKind::Name(name) => match self.lookup(name) {
                 Some(Var::Obj(obj @ (Obj::Store(_) | Obj::Range(..) | Obj::Sheet(_)))) => Some(obj.describe()),
@@ -726,11 +845,24 @@ impl Interp<'_, '_> {
                 ),
             ));
         }
-        self.eval(e)
+        let value = self.eval(e)?;
+        self.typed_key(e, value)
+    }
+
+    /// The key `e` gave as `value`, with the type of its number. A LongLong is refused as
+    /// Scripting refuses it (its `get_HashVal` fails VT_I8 with "Invalid procedure call or
+    /// argument", checked against Windows in Wine's `test_hash_value`).
+    #[inline(never)]
+    fn typed_key(&self, e: &Expr, value: Value) -> Run<Key> {
+        let held = self.item_held(e, &Var::Value(value.clone()));
+        if held == Declared::LongLong {
+            return Err(self.vba_error(self.expr_span(e), INVALID_CALL, "a LongLong as a Dictionary key"));
+        }
+        Ok(Key { value, held })
     }
 
     /// The index arguments of `c(i)` as one key.
-    pub(super) fn store_key(&self, ctx: &mut Ctx, index: &[Expr], span: Span) -> Run<Value> {
+    pub(super) fn store_key(&self, ctx: &mut Ctx, index: &[Expr], span: Span) -> Run<Key> {
         let [e] = index else {
             return Err(self.vba_error(span, INVALID_CALL, "an item is picked by one index or key"));
         };
@@ -739,7 +871,7 @@ impl Interp<'_, '_> {
         }
         let v = ctx.eval(e).unwrap_single();
         self.take_pending()?;
-        Ok(v)
+        self.typed_key(e, v)
     }
 
     /// `c(i)` in an expression.
@@ -767,7 +899,7 @@ impl Interp<'_, '_> {
                 let args = self.member_args(link, &["Key"])?;
                 let old = self.store_key_value(self.required(args[0], link, "Key")?)?;
                 let new = self.store_key_value(value)?;
-                self.change_key(h, &old, new, link.span)
+                self.change_key(h, &old.value, new, link.span)
             }
             "comparemode" if h.class() == Class::Dictionary => {
                 let mode = self.number(value, "CompareMode")?;

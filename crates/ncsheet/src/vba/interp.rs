@@ -1040,10 +1040,9 @@ impl Interp<'_, '_> {
         let own = match &self.module.nodes[id as usize] {
             Node::Call { .. } | Node::Element { .. } | Node::Index { .. } => true,
             // `Cells(r, c).Value` of a cell formatted as a date or as currency (`formats.rs`).
-            Node::Path(path) => path
-                .links
-                .last()
-                .is_some_and(|l| ["item", "filedatetime", "value"].iter().any(|n| l.name.eq_ignore_ascii_case(n))),
+            Node::Path(path) => path.links.last().is_some_and(|l| {
+                ["item", "filedatetime", "value", "keys", "items"].iter().any(|n| l.name.eq_ignore_ascii_case(n))
+            }),
             _ => false,
         };
         let gave = self.gave.get();
@@ -1095,6 +1094,11 @@ impl Interp<'_, '_> {
                     Var::Obj(Obj::Instance(inner)) if !as_object => self.default_value(&inner),
                     other => Ok(other),
                 }
+            }
+            // `k = d.Keys`: the keys with their types.
+            ExprKind::Host(_) if !as_object && self.is_keys_member(e) => {
+                let Node::Path(path) = &self.module.nodes[id as usize] else { unreachable!() };
+                self.keys_var(path)
             }
             ExprKind::Host(_) if self.store_element(id).is_some() => {
                 let (h, index, span) = self.store_element(id).expect("a Collection's item");
@@ -2410,9 +2414,10 @@ impl Interp<'_, '_> {
                     let key = self.store_key(&mut self.ctx(), index, span)?;
                     let item = if set { self.item_var(value)? } else { self.var_of(value, false)? };
                     self.refuse_long_long_past_double(value, &item, super::collections::STORE_ITEM)?;
-                    let date = matches!(&item, Var::Value(v) if !set && self.as_date(value, v).is_some());
+                    // The item keeps the type its number has (a Date, an Integer), as `d.Add` keeps it.
+                    let held = if set { super::typing::Declared::Variant } else { self.item_held(value, &item) };
                     self.set_store_item(&h, &key, item, span)?;
-                    return self.mark_store_date(&h, Some(&key), date, span);
+                    return self.mark_store_held(&h, Some(&key.value), held, span);
                 }
                 if !set && self.holds_records(name) {
                     return self.set_record_element(name, index, value, span);
