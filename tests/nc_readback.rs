@@ -954,3 +954,143 @@ fn nc_dda_refuses_an_arc_of_more_clocks_than_a_table_has_rows() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("give a coarser --increment"));
     assert!(!file.exists(), "nothing is written");
 }
+
+/// LinuxCNC's parameters and expressions (`#1 = 10`, `X[#1*2]`, `Z-#<depth>`, functions in
+/// degrees, a line's settings taking effect after the line): the moves our reader makes of
+/// parametric programs are the moves rs274 makes of them.
+#[test]
+fn parametric_programs_move_as_rs274_moves_them() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let programs = [
+        "G21 G90 G17\n#1 = 10\n#<depth> = 2\n#2 = 3 #1 = 4 (the settings of a line take effect after it)\nT1 M6\n\
+         S1000 M3\nG0 X0 Y0 Z5\nG1 F100 X[#1] Z-[#<depth>]\nX[#1*2] Y#2\nX-#1\nX[2**3+1] Y[ATAN[1]/[1]] Z[SIN[30]]\n\
+         X[5 MOD 3] Y[1+2*3] Z[-7 MOD 3]\nX[1 LT 2] Y[FIX[-2.5]] Z[FUP[-2.5]]\nX[ROUND[2.5]] Y[ROUND[-2.5]] Z[EXISTS[#<depth>]]\nM2\n",
+        "G21 G90 G17\n#<r> = 12.5\n#<a> = 30\n#3 = 2\nG0 X[#<r>*COS[#<a>]] Y[#<r>*SIN[#<a>]] Z#3\n\
+         G1 F[#3*50] Z-1\nG3 X[#<r>*COS[#<a>+90]] Y[#<r>*SIN[#<a>+90]] I[0-#<r>*COS[#<a>]] J[0-#<r>*SIN[#<a>]]\n\
+         #<a> = [#<a> + 90]\nG2 X[#<r>*COS[#<a>-90]] Y[#<r>*SIN[#<a>-90]] R#<r>\n#[#3+2] = [SQRT[2]*#<r>]\nG1 X#4 Y[-#4]\n\
+         G1 X[2--3] Y[2*-3] Z[- [1 + 1] ** 2]\nG0 X[1 GT 0 + 1] Y[2 OR 0 AND 0] Z[ACOS[0] + ASIN[1] + TAN[45] + ABS[-3]]\n\
+         G0 X[EXP[1] + LN[10]] Y[3 XOR 0] Z[#< R > / #<r>]\nG0 X##3 Y[1 EQ 1.00005] Z[1 NE 1.00005]\nM2\n",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, text) in programs.iter().enumerate() {
+        let path = dir.path().join(format!("p{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected program {i}:\n{e}\n{text}"));
+        let ours = our_moves(&read::read(text, Family::LinuxCnc, None).unwrap_or_else(|e| panic!("program {i}: {e}")));
+        assert!(same_moves(&ours, &theirs), "program {i}:\nours   {ours:?}\nrs274 {theirs:?}\n{text}");
+    }
+}
+
+/// A random expression of LinuxCNC's operators and functions whose value stays small and
+/// defined (no division, no logarithms): depth `depth`, from the generator `next`.
+fn random_expression(next: &mut impl FnMut(u32) -> u32, depth: u32) -> String {
+    let number = |next: &mut dyn FnMut(u32) -> u32| {
+        let v = f64::from(next(2000)) / 100.0 - 10.0;
+        if next(4) == 0 {
+            format!("#{}", 1 + next(3))
+        } else {
+            format!("{v}")
+        }
+    };
+    if depth == 0 || next(4) == 0 {
+        return number(next);
+    }
+    if next(3) == 0 {
+        let f = ["ABS", "SIN", "COS", "FIX", "FUP", "ROUND", "-"][next(7) as usize];
+        let inner = random_expression(next, depth - 1);
+        return if f == "-" { format!("-[{inner}]") } else { format!("{f}[{inner}]") };
+    }
+    let ops = ["+", "-", "*", "MOD 7", "EQ", "NE", "GT", "LT", "AND", "OR", "XOR", "** 2"];
+    let mut text = random_expression(next, depth - 1);
+    for _ in 0..=next(2) {
+        let op = ops[next(ops.len() as u32) as usize];
+        text = match op {
+            "MOD 7" | "** 2" => format!("{text} {op}"),
+            _ => format!("{text} {op} {}", random_expression(next, depth - 1)),
+        };
+        if next(2) == 0 {
+            text = format!("[{text}]");
+        }
+    }
+    format!("[{text}]")
+}
+
+/// Four hundred random expressions (operators bound as LinuxCNC binds them, signs, nested
+/// brackets, parameters) have the values rs274 gives them, to its four printed decimals.
+#[test]
+fn random_expressions_have_rs274s_values() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move |n: u32| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % u64::from(n)) as u32
+    };
+    let expressions: Vec<String> = (0..400).map(|_| random_expression(&mut next, 3)).collect();
+    let mut text = "G21 G90 G17\n#1 = 2.5\n#2 = -3.25\n#3 = 0\n".to_string();
+    for e in &expressions {
+        text += &format!("G0 X{e}\n");
+    }
+    text += "M2\n";
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("expressions.ngc");
+    std::fs::write(&path, &text).unwrap();
+    let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected the expressions: {e}"));
+    let ours = our_moves(&read::read(&text, Family::LinuxCnc, None).unwrap());
+    assert_eq!(ours.len(), expressions.len());
+    assert_eq!(theirs.len(), expressions.len());
+    for ((e, a), b) in expressions.iter().zip(&ours).zip(&theirs) {
+        let (Move::Traverse { x: a, .. }, Move::Traverse { x: b, .. }) = (a, b) else { panic!("{a:?} {b:?}") };
+        // rs274 prints four decimals.
+        assert!((a - b).abs() <= 0.00005 + 1e-9 * a.abs(), "X{e}: ours {a}, rs274 {b}");
+    }
+}
+
+/// What LinuxCNC refuses in parameters and expressions is refused here too, at the line and
+/// column of the cause, and never read as 0; nesting past the limit is refused, not a crash.
+#[test]
+fn expression_errors_name_line_and_column() {
+    let cases = [
+        ("G0 X[1/0]", 7, "divides by zero"),
+        ("G0 X[SQRT[-1]]", 6, "square root of a negative"),
+        ("G0 X[LN[0]]", 6, "logarithm"),
+        ("G0 X[ACOS[2]]", 6, "from -1 to 1"),
+        ("G0 X[[-8]**[1/3]]", 10, "not whole"),
+        ("G0 X#1.5", 5, "must be whole"),
+        ("G0 X#5602", 5, "not a parameter"),
+        ("#0=1", 1, "not a parameter"),
+        ("G0 X[1+]", 8, "a value is missing"),
+        ("G0 X[1", 5, "not closed by `]`"),
+        ("G0 X[FOO[1]]", 6, "not one of LinuxCNC's functions"),
+        ("G0 X[ATAN[1]]", 13, "ATAN[y]/[x]"),
+        ("G0 X#<nowhere>", 5, "read before the program sets it"),
+        ("G0 X#5420", 5, "the control's state"),
+        ("#5221=10", 1, "changes the control's state"),
+        ("G0 X[1 MOD 0]", 8, "MOD 0"),
+        ("G0 X#1#2", 9, "takes `=`"),
+    ];
+    for (line, column, message) in cases {
+        let text = format!("G21\n{line}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, None).expect_err(line);
+        assert_eq!((e.line, e.column), (2, column), "{line}: {e}");
+        assert!(e.message.contains(message), "{line}: {e}");
+        if !line.contains("#5") && rs274::available() {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("e.ngc");
+            std::fs::write(&path, &text).unwrap();
+            assert!(rs274::moves(&path).is_err(), "rs274 reads {line:?}, which we refuse");
+        }
+    }
+    let deep = format!("G21\nG0 X{}1\nM2\n", "[".repeat(100_000));
+    let e = read::read(&deep, Family::LinuxCnc, None).unwrap_err();
+    assert!(e.message.contains("nested more than"), "{e}");
+    let fanuc = read::read("G21\nG0 X#1\nM30\n", Family::Fanuc, Some(Machine::Mill)).unwrap_err();
+    assert!(fanuc.message.contains("Fanuc Macro B"), "{fanuc}");
+}

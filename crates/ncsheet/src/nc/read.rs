@@ -3,7 +3,8 @@
 //! (G17/18/19), units (G20/21, Sinumerik G70/71, read into mm), absolute/incremental
 //! (G90/91; a Fanuc lathe refuses G90-G94, cycles in system A), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
 //! Sinumerik DIAMON/DIAMOF; Fanuc and NC31 lathes are diametral), arcs by I/J/K, R or
-//! Sinumerik CR=, F, S, T, M, Sinumerik LIMS= and MSG. Heidenhain plain language is read in
+//! Sinumerik CR=, F, S, T, M, Sinumerik LIMS= and MSG. LinuxCNC's parameters and expressions are read in
+//! [`parameters`]. Heidenhain plain language is read in
 //! [`heidenhain`]. A word the reader does not know is an error naming its line and column,
 //! never skipped.
 
@@ -17,6 +18,7 @@ use super::program::{
 pub mod detect;
 pub mod heidenhain;
 mod nc31;
+pub mod parameters;
 
 pub(crate) use nc31::called as nc31_called;
 pub(crate) use nc31::subprogram as nc31_subprogram;
@@ -168,6 +170,7 @@ pub fn read_with_lines(
     // Coordinates written finer than the dialects' 0.001 mm: the machine resolves finer.
     let mut decimals = DEFAULT_DECIMALS;
     let mut ended = false;
+    let mut parameters = parameters::Parameters::default();
     // NC31 runs its subprograms, parameters and jumps ([`nc31`]): the blocks it executes.
     let sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
         Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line)))
@@ -195,8 +198,10 @@ pub fn read_with_lines(
                     continue;
                 }
             }
-            let Line { words, comment, diameter, spindle_limit, rapid_mark } =
-                tokens(raw, family).map_err(|(c, m)| at(c, m))?;
+            let Line { words, comment, diameter, spindle_limit, rapid_mark, settings } =
+                tokens(raw, family, &parameters).map_err(|(c, m)| at(c, m))?;
+            // LinuxCNC sets a line's parameters once the whole line is read.
+            parameters.apply(settings);
             if let Some(d) = diameter {
                 st.diameter = d;
             }
@@ -312,12 +317,15 @@ struct Line {
     spindle_limit: Option<f64>,
     /// The column of NC31's `E`.
     rapid_mark: Option<usize>,
+    /// LinuxCNC's `#… = value` settings, applied after the line.
+    settings: Vec<parameters::Setting>,
 }
 
 /// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
 /// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`];
-/// the NC31 has no comments), Sinumerik's `MSG("…")`.
-fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
+/// the NC31 has no comments), Sinumerik's `MSG("…")`. LinuxCNC's values may be expressions
+/// and parameters ([`parameters`]), read with the values `params` holds before this line.
+fn tokens(raw: &str, family: Family, params: &parameters::Parameters) -> Result<Line, Fail> {
     let chars: Vec<char> = raw.chars().collect();
     let mut line = Line::default();
     let mut i = 0;
@@ -335,6 +343,10 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
         } else if c == ';' && matches!(family, Family::LinuxCnc | Family::Sinumerik) {
             line.comment = Some(chars[i + 1..].iter().collect::<String>().trim().to_string());
             break;
+        } else if c == '#' && family == Family::LinuxCnc {
+            let (setting, next) = parameters::setting(&chars, i, params)?;
+            line.settings.push(setting);
+            i = next;
         } else if c.is_ascii_alphabetic() {
             let name_end = i + chars[i..].iter().take_while(|c| c.is_ascii_alphabetic() || **c == '_').count();
             if family == Family::Sinumerik && (name_end - i > 1 || chars.get(name_end) == Some(&'=')) {
@@ -352,6 +364,12 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
                     return Err((start + 1, o_word_refused(&chars[start..end], keyword)));
                 }
             }
+            if family == Family::LinuxCnc && parameters::starts_computed_value(&chars, i) {
+                let (value, next) = parameters::real_value(&chars, i, params)?;
+                line.words.push(Word { letter, value, column: start + 1, decimals: 0 });
+                i = next;
+                continue;
+            }
             let (value, decimals, next) = number(&chars, i);
             if family == Family::Nc31 && letter == 'E' && value.is_none() {
                 line.rapid_mark = Some(start + 1);
@@ -360,15 +378,30 @@ fn tokens(raw: &str, family: Family) -> Result<Line, Fail> {
             if family == Family::Sinumerik && letter == 'R' {
                 return Err((start + 1, "R is an arithmetic parameter on Sinumerik (an arc's radius is CR=)".into()));
             }
+            if value.is_none() && family == Family::Fanuc && matches!(chars.get(i), Some('#' | '[')) {
+                return Err((i + 1, not_a_word(chars[i], family)));
+            }
             let number: String = chars[i..next].iter().collect();
             let value = value.ok_or_else(|| (start + 1, no_value(&format!("the word {letter}"), &number)))?;
             line.words.push(Word { letter, value, column: start + 1, decimals });
             i = next;
         } else {
-            return Err((i + 1, format!("`{c}` is not the start of a word")));
+            return Err((i + 1, not_a_word(c, family)));
         }
     }
     Ok(line)
+}
+
+/// Why `c` cannot start a word: a Fanuc or Sinumerik program's macro variables and
+/// expressions are named as such rather than as a stray character.
+fn not_a_word(c: char, family: Family) -> String {
+    match (c, family) {
+        ('#' | '[', Family::Fanuc) => format!(
+            "`{c}` starts a custom macro variable or expression (Fanuc Macro B): ncsheet does not read macro \
+             programs; write the values out"
+        ),
+        _ => format!("`{c}` is not the start of a word"),
+    }
 }
 
 /// The keywords of LinuxCNC's O-codes (docs/src/gcode/o-code.adoc: subroutines, their
