@@ -180,6 +180,53 @@ fn numbers_at_the_edges_of_doubles() {
     assert_eq!(wb.value(0, parse_cell("C1").unwrap()), Value::Bool(false));
 }
 
+/// Means, spreads and interpolations of numbers near the largest double: each is finite
+/// where the exact result is. Expected values are exact arithmetic on the doubles (Python's
+/// `fractions`: `float(Fraction(1e308) / 3)` is 3.333333333333333e+307, the mean absolute
+/// deviation of 1e308, 1e308, -1e308 is 8/9 of 1e308, 8.888888888888889e+307) and, for
+/// `SKEW`, scale-free algebra: the skew of (a, a, -a) is -√3 for every a > 0. Excel shows
+/// AVERAGE(1E+308,1E+308) as 1E+308 (LibreOffice 7 overflows: `#NUM!`).
+#[test]
+fn means_and_percentiles_near_the_largest_double_are_finite() {
+    let big = "{1E+308,1E+308}";
+    for mean in [
+        format!("=AVERAGE({big})"),
+        format!("=AVERAGEA({big})"),
+        format!("=TRIMMEAN({big},0)"),
+        format!("=HARMEAN({big})"),
+    ] {
+        assert_eq!(value(&mean), Value::Number(1e308), "{mean}");
+    }
+    for spread in [format!("=AVEDEV({big})"), format!("=STDEV({big})")] {
+        assert_eq!(value(&spread), Value::Number(0.0), "{spread}");
+    }
+    // The functions that take only ranges, over A1:A2.
+    let over_range = ["=AVERAGEIF(A1:A2,\">0\")", "=SUBTOTAL(1,A1:A2)", "=AGGREGATE(1,4,A1:A2)", "=SUBTOTAL(7,A1:A2)"];
+    let mut cells = vec![("A1", "1E+308".to_string()), ("A2", "1E+308".to_string())];
+    cells.extend(["B1", "B2", "B3", "B4"].into_iter().zip(over_range.map(String::from)));
+    let wb = sheet(&cells);
+    for (cell, expected) in [("B1", 1e308), ("B2", 1e308), ("B3", 1e308), ("B4", 0.0)] {
+        assert_eq!(wb.value(0, parse_cell(cell).unwrap()), Value::Number(expected), "{cell}");
+    }
+    let mixed = "{1E+308,1E+308,-1E+308}";
+    assert_eq!(value(&format!("=AVERAGE({mixed})")), Value::Number(3.333333333333333e307));
+    let close = |formula: &str, exact: f64| match value(formula) {
+        // A few roundings of the mean, the deviations and their powers: within 1E-14.
+        Value::Number(x) => assert!(((x - exact) / exact).abs() < 1e-14, "{formula}: {x} for {exact}"),
+        other => panic!("{formula}: {other:?}"),
+    };
+    close(&format!("=AVEDEV({mixed})"), 8.888888888888889e307);
+    close(&format!("=SKEW({mixed})"), -3f64.sqrt());
+    // Halfway between -1E+308 and 1E+308 is 0, and 0 lies halfway.
+    let wide = "{-1E+308,1E+308}";
+    assert_eq!(value(&format!("=PERCENTILE({wide},0.5)")), Value::Number(0.0));
+    assert_eq!(value(&format!("=QUARTILE({wide},2)")), Value::Number(0.0));
+    assert_eq!(value(&format!("=PERCENTILE({wide},0.25)")), Value::Number(-5e307));
+    assert_eq!(value(&format!("=PERCENTILE.EXC({mixed},0.5)")), Value::Number(1e308));
+    assert_eq!(value(&format!("=PERCENTRANK({wide},0)")), Value::Number(0.5));
+    assert_eq!(value(&format!("=PERCENTRANK.EXC({wide},0)")), Value::Number(0.5));
+}
+
 // ---------------------------------------------------------------------------------------
 // Memory: arrays sized from an argument are checked before they are built
 

@@ -16,6 +16,7 @@ use crate::formula::ast::{Expr, ExprKind};
 use crate::eval::functions::arrays::reshape::ItemKey;
 use crate::eval::functions::criteria::{lowered, Criterion, EqualityIndex, MAX_CRITERIA_SCAN};
 use crate::eval::functions::statistics::dispersion::{deviation, scaled_squared_deviations, unscaled};
+use crate::eval::functions::statistics::mean;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -423,7 +424,7 @@ fn daverage(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if xs.is_empty() {
         return Err(XlError::Div0);
     }
-    Ok(number_result(xs.iter().sum::<f64>() / xs.len() as f64))
+    Ok(number_result(mean(&xs)))
 }
 
 fn dcount(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

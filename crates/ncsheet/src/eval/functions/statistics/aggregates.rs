@@ -10,6 +10,7 @@ use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
 use crate::eval::functions::criteria::{matching_cells, CellBlock, CriteriaMatcher, Criterion, Summary};
+use crate::eval::functions::statistics::Total;
 
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
@@ -158,19 +159,19 @@ fn min(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn average(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let (mut total, mut count) = (0.0, 0usize);
+    let (mut total, mut count) = (Total::default(), 0usize);
     for_each_number(ctx, args, &mut |n| {
-        total += n;
+        total.add(n);
         count += 1;
     })?;
     mean(total, count).map(number_result)
 }
 
-fn mean(total: f64, count: usize) -> XlResult<f64> {
+fn mean(total: Total, count: usize) -> XlResult<f64> {
     if count == 0 {
         Err(XlError::Div0)
     } else {
-        Ok(total / count as f64)
+        Ok(total.over(count as f64))
     }
 }
 
@@ -337,8 +338,20 @@ fn extreme_or_zero(extreme: f64, count: usize) -> XlResult<f64> {
     Ok(if count == 0 { 0.0 } else { extreme })
 }
 
+/// The mean from a criteria index's plain sum (many criteria over one range; the summary is
+/// kept as a plain sum there).
+fn mean_of_sum(sum: f64, count: usize) -> XlResult<f64> {
+    if count == 0 {
+        Err(XlError::Div0)
+    } else {
+        Ok(sum / count as f64)
+    }
+}
+
 fn arithmetic_mean(xs: &[f64]) -> XlResult<f64> {
-    mean(xs.iter().sum(), xs.len())
+    let mut total = Total::default();
+    xs.iter().for_each(|&x| total.add(x));
+    mean(total, xs.len())
 }
 
 fn smallest(xs: &[f64]) -> XlResult<f64> {
@@ -362,7 +375,7 @@ fn sumif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn averageif(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean)
+    Conditions::single(ctx, args)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean_of_sum)
 }
 
 fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
@@ -370,7 +383,7 @@ fn sumifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn averageifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean)
+    Conditions::pairs(ctx, args, true)?.aggregate(ctx, arithmetic_mean, Summary::Total, mean_of_sum)
 }
 
 fn minifs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -7,6 +7,8 @@ use crate::eval::functions::api::{number_result, numbers, numbers_a, ArgSet, Ctx
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
+use crate::eval::functions::statistics::{mean, Total};
+
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value(
         "AVEDEV",
@@ -166,14 +168,10 @@ fn values(ctx: &mut Ctx, args: &[Expr], reading: Reading) -> XlResult<Vec<f64>> 
     }
 }
 
-fn mean(xs: &[f64]) -> f64 {
-    xs.iter().sum::<f64>() / xs.len() as f64
-}
-
 /// A power of two at the largest magnitude among `xs` (1 for none or zeros): dividing by it
 /// is exact, so sums and squares at that scale round as they would unscaled, yet stay
 /// finite where the result is (the standard deviation of 1E+308 and -1E+308 is 1.41E+308).
-fn scale_of(xs: &[f64]) -> f64 {
+pub(crate) fn scale_of(xs: &[f64]) -> f64 {
     let largest = xs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if largest.is_normal() {
         2f64.powi(largest.log2().floor() as i32)
@@ -271,7 +269,9 @@ fn devsq(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn avedev(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let xs = some_numbers(ctx, args)?;
     let m = mean(&xs);
-    Ok(number_result(xs.iter().map(|x| (x - m).abs()).sum::<f64>() / xs.len() as f64))
+    let mut deviations = Total::default();
+    xs.iter().for_each(|x| deviations.add((x - m).abs()));
+    Ok(number_result(deviations.over(xs.len() as f64)))
 }
 
 fn averagea(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -13,6 +13,8 @@ use crate::eval::functions::api::{lift_values, number_result, numbers, ArgSet, C
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
+use crate::eval::functions::statistics::{between, fraction_between};
+
 pub const FUNCTIONS: &[FnSpec] = &[
     FnSpec::value("LARGE", 2, 2, large, "LARGE(array, k)", "The k-th largest number")
         .biff(325)
@@ -199,7 +201,7 @@ fn interpolate(xs: &[f64], rank: f64) -> f64 {
     let i = rank.floor() as usize;
     let fraction = rank - rank.floor();
     match xs.get(i + 1) {
-        Some(next) if fraction > 0.0 => xs[i] + fraction * (next - xs[i]),
+        Some(&next) if fraction > 0.0 => between(xs[i], next, fraction),
         _ => xs[i],
     }
 }
@@ -315,7 +317,7 @@ fn percentrank(xs: &[f64], v: &[Value], exclusive: bool, dates: DateSystem) -> X
         below as f64
     } else {
         let (lo, hi) = (xs[below - 1], xs[below]);
-        (below - 1) as f64 + (x - lo) / (hi - lo)
+        (below - 1) as f64 + fraction_between(lo, x, hi)
     };
     let n = xs.len() as f64;
     let fraction = match (exclusive, xs.len()) {

@@ -12,6 +12,8 @@ use crate::eval::functions::api::{
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
+use crate::eval::functions::statistics::dispersion::scale_of;
+use crate::eval::functions::statistics::mean;
 use crate::eval::functions::statistics::special::{beta_i, gamma_q, norm_cdf};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -187,10 +189,6 @@ pub const FUNCTIONS: &[FnSpec] = &[
         .array_args(ArgSet::only(0)),
 ];
 
-fn mean(xs: &[f64]) -> f64 {
-    xs.iter().sum::<f64>() / xs.len() as f64
-}
-
 fn sum_sq_dev(xs: &[f64]) -> f64 {
     let m = mean(xs);
     xs.iter().map(|x| (x - m) * (x - m)).sum()
@@ -216,8 +214,13 @@ fn nonzero(x: f64) -> XlResult<f64> {
 // ---- shape and means ----------------------------------------------------------------------
 
 /// Σ ((x − mean) / sd)^power with the sample (n − 1) or population standard deviation.
+/// Computed at the scale of the largest magnitude (exact: a power of two), which standardizing
+/// divides out: SKEW(1E+308,1E+308,-1E+308) squared deviations past the largest double.
 fn standardized_power_sum(xs: &[f64], power: i32, sample: bool) -> XlResult<f64> {
     let n = xs.len() as f64;
+    let scale = scale_of(xs);
+    let scaled: Vec<f64> = xs.iter().map(|x| x / scale).collect();
+    let xs = &scaled[..];
     let m = mean(xs);
     let sd = nonzero((sum_sq_dev(xs) / if sample { n - 1.0 } else { n }).sqrt())?;
     Ok(xs.iter().map(|x| ((x - m) / sd).powi(power)).sum())
