@@ -612,3 +612,49 @@ fn nested_unclosed_calls_and_spaced_parentheses_parse_in_linear_time() {
         let _ = wb.set_input(0, parse_cell(&format!("D{}", 10 + row)).unwrap(), text);
     }
 }
+
+// ---- regular expressions ---------------------------------------------------------------------
+
+/// docs/limits.md, "a regular expression": a search's work is the states the pattern can
+/// have active × (its capture slots + 100) per byte of the text, refused past 3·10^9 before it
+/// runs; the matcher's table of slots (states × slots) past 4,194,304. `(?:a?)` 1,000 times
+/// then 1,000 `a` keeps about 2,000 states active at each byte: over 30,000 bytes that is
+/// 2,000 × 102 × 30,001 = 6·10^9 (REGEXTEST ran 9.6 s with the groups capturing); with the
+/// groups capturing, 5,000 states × 2,002 slots pass the table's limit. Over 1,000 characters
+/// the same chain is 2·10^8 and matches (each `a?` may take nothing; Python:
+/// re.search('(?:a?)'*1000+'a'*1000, 'a'*1000) matches).
+#[test]
+fn regular_expressions_past_the_work_limit_are_num_naming_it() {
+    let mut wb = Workbook::with_sheet();
+    let chain = r#"REPT("(?:a?)",1000)&REPT("a",1000)"#;
+    set(&mut wb, "A1", &format!(r#"=REGEXTEST(REPT("a",1000),{chain})"#));
+    assert_eq!(get(&wb, "A1"), Value::Bool(true));
+    for (cell, formula) in [
+        ("A2", format!(r#"=REGEXTEST(REPT("a",30000),{chain})"#)),
+        ("A3", format!(r#"=REGEXEXTRACT(REPT("a",30000),{chain},1)"#)),
+        ("A4", format!(r#"=REGEXREPLACE(REPT("a",30000),{chain},"")"#)),
+    ] {
+        set(&mut wb, cell, &formula);
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
+        let problems = problems_at(&wb, cell);
+        assert!(mentions(&problems, &["30000 bytes", "limit of 3e9"]), "{formula}: {problems:?}");
+    }
+    set(&mut wb, "A5", r#"=REGEXTEST(REPT("a",30000),REPT("(a?)",1000)&REPT("a",1000))"#);
+    assert_eq!(get(&wb, "A5"), Value::Error(XlError::Num));
+    assert!(mentions(&problems_at(&wb, "A5"), &["1000 capture groups", "64 MiB"]), "{:?}", problems_at(&wb, "A5"));
+}
+
+/// Ordinary patterns on the longest texts a cell holds still answer: a Unicode class counts
+/// the few states a thread can be in, not the hundreds it compiles to. Python:
+/// re.sub(r'\s+', ' ', 'ab  cd '*4000) has 24,000 characters; the address after 10,000 "ab "
+/// is dragon@xyzzy.com (the reference example of VBScript's SubMatches).
+#[test]
+fn ordinary_patterns_on_long_texts_still_answer() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", r#"=LEN(REGEXREPLACE(REPT("ab  cd ",4000),"\s+"," "))"#);
+    assert_eq!(get(&wb, "A1"), n(24000.0));
+    set(&mut wb, "A2", r#"=TEXTJOIN(",",,REGEXEXTRACT(REPT("ab ",10000)&"dragon@xyzzy.com","(\w+)@(\w+)\.(\w+)",2))"#);
+    assert_eq!(get(&wb, "A2"), Value::text("dragon,xyzzy,com"));
+    set(&mut wb, "A3", r#"=REGEXTEST(REPT("語",32000)&"1","^\w+\d$")"#);
+    assert_eq!(get(&wb, "A3"), Value::Bool(true));
+}

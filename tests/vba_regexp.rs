@@ -277,3 +277,46 @@ fn matches_count_against_the_memory_limit() {
     );
     assert!(kept.contains("--max-memory"), "{kept}");
 }
+
+/// The statement limit `body` runs under, and the error that stops it.
+fn stops_within(body: &str, max_statements: u64) -> ncsheet::vba::MacroError {
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    let options = ncsheet::vba::RunOptions { max_statements, ..ncsheet::vba::RunOptions::default() };
+    match ncsheet::vba::run(&mut Workbook::with_sheet(), &src, "main.bas", &options) {
+        Ok(out) => panic!("the macro ran to its end, printing {:?}", out.printed),
+        Err(e) => e,
+    }
+}
+
+/// docs/limits.md, "a regular expression": a search's work is the states the pattern can
+/// have active × (its slots + 100) per byte, refused past 3·10^9 before it runs. A chain of
+/// 1,000 `(?:a?)` then 1,000 `a` keeps about 2,000 states active at every byte (each `a?`
+/// may or may not have taken its `a`): 2,000 × 102 × 30,001 bytes is 6·10^9, past the limit
+/// (it ran for seconds); over 1,000 characters it is 2·10^8, and it matches (each `a?` may
+/// take nothing, the 1,000 `a` take the text; Python: re.search('(?:a?)'*1000+'a'*1000,
+/// 'a'*1000) matches).
+#[test]
+fn a_search_past_the_work_limit_is_refused_before_it_runs() {
+    let setup = "Dim re: Set re = New RegExp\n Dim p, i\n For i = 1 To 1000: p = p & \"(?:a?)\": Next\n \
+                 re.Pattern = p & String(1000, \"a\")\n";
+    assert_eq!(printed(&format!("{setup} Debug.Print re.Test(String(1000, \"a\"))")), ["True"]);
+    for call in ["re.Test(t)", "re.Execute(t).Count", "re.Replace(t, \"\")"] {
+        let e = stops_within(&format!("{setup} Dim t: t = String(30000, \"a\")\n Debug.Print {call}"), 30_000_000);
+        assert_eq!(e.kind, ncsheet::vba::ErrorKind::Limit, "{call}: {e}");
+        assert!(e.message.contains("30000 bytes") && e.message.contains("limit of 3e9"), "{call}: {e}");
+    }
+}
+
+/// A loop of searches each within the limit counts their work against the statement limit,
+/// a unit of text work per 400 steps: 100 `(?:a?)` and "b" keep about 200 states active, so a
+/// search of 10,000 "a" is about 200 × 102 × 10,001 = 2·10^8 steps, 500,000 units, 125,000
+/// statements; twenty turns pass a limit of 1,000,000 that the loop's own 60 statements stay
+/// far below.
+#[test]
+fn a_loop_of_searches_counts_their_work_as_statements() {
+    let body = "Dim re: Set re = New RegExp\n Dim p, i\n For i = 1 To 100: p = p & \"(?:a?)\": Next\n \
+                re.Pattern = p & \"b\"\n Dim t: t = String(10000, \"a\")\n For i = 1 To 20: Debug.Print re.Test(t): Next";
+    let e = stops_within(body, 1_000_000);
+    assert_eq!(e.kind, ncsheet::vba::ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("text and array work counts too"), "{e}");
+}

@@ -8,6 +8,7 @@ pub mod evaluator;
 pub mod format;
 pub mod functions;
 pub mod locale;
+pub mod regex_limits;
 pub mod settings;
 pub mod surface;
 #[cfg(any(test, feature = "testing"))]

@@ -11,16 +11,15 @@
 //! character but `\n`, `\b` at ASCII word characters, `^`/`$` under MultiLine after and
 //! before `\n` and `\r`). What the crate cannot express is refused by name, never matched
 //! otherwise: lookahead `(?=` `(?!`, backreferences `\1`, and `^`/`$` under MultiLine on
-//! text holding a CR LF pair. The crate matches in time linear in the text, so no pattern
-//! can make a macro hang; the pattern's length and its compiled size are capped
-//! (docs/limits.md).
+//! text holding a CR LF pair. A search takes time linear in the text, times what the pattern
+//! compiles to: the pattern's length, its compiled size and a search's work are capped as the
+//! cell functions' are, in one place (`eval/regex_limits.rs`, docs/limits.md).
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use regex::{Regex, RegexBuilder};
-
 use crate::eval::functions::vba::vba_text;
+use crate::eval::regex_limits::{self, Pattern};
 use crate::eval::Value;
 use crate::formula::ast::Expr;
 
@@ -28,12 +27,6 @@ use super::ast::{Arg, Link, Made, Node, Span};
 use super::interp::{Fault, Interp, Run};
 use super::objects::lower;
 use super::value::{Obj, Var};
-
-/// The longest pattern a RegExp takes, in characters (docs/limits.md).
-pub const MAX_PATTERN_CHARS: usize = 10_000;
-/// The most memory a compiled pattern may take (the `regex` crate's size limit): a pattern
-/// such as `(a{1000}){1000}` is refused instead of built (docs/limits.md).
-const MAX_COMPILED_BYTES: usize = 8 << 20;
 
 /// VBScript's run-time errors of a pattern ("VBScript Run-time Errors").
 const SYNTAX: u32 = 5017;
@@ -44,6 +37,9 @@ const INVALID_RANGE: u32 = 5021;
 const INVALID_CALL: u32 = 5;
 /// What one match costs the memory budget besides its texts.
 const HIT_BYTES: usize = 64;
+/// A search's work (`regex_limits`, in slot copies of about 0.35 ns) that counts as one unit
+/// of the macro's text work (a quarter statement, about 0.14 µs).
+const SEARCH_WORK_PER_UNIT: u64 = 400;
 
 fn vbscript_text(code: u32) -> &'static str {
     match code {
@@ -68,7 +64,7 @@ pub(super) enum PatternFault {
 /// A pattern translated for the `regex` crate.
 #[derive(Debug)]
 pub(super) struct Compiled {
-    regex: Regex,
+    pattern: Pattern,
     /// Whether `^` or `$` is a line anchor here (MultiLine): text holding CR LF is refused.
     line_anchors: bool,
 }
@@ -566,23 +562,14 @@ enum ClassAtom {
 
 /// The pattern compiled as VBScript reads it under the RegExp's flags.
 pub(super) fn compile(pattern: &str, ignore_case: bool, multiline: bool) -> Result<Compiled, PatternFault> {
-    let length = pattern.chars().count();
-    if length > MAX_PATTERN_CHARS {
-        return Err(PatternFault::Refused(format!(
-            "the pattern is {length} characters long; ncsheet takes patterns of up to {MAX_PATTERN_CHARS}"
-        )));
-    }
+    // The pattern as given is measured: its translation spells each character out.
+    regex_limits::check_length(pattern).map_err(|e| PatternFault::Refused(e.to_string()))?;
     let (translated, line_anchors) = Translation::new(pattern, multiline).run()?;
-    let source = if ignore_case { format!("(?i){translated}") } else { translated };
-    let regex = RegexBuilder::new(&source).size_limit(MAX_COMPILED_BYTES).build().map_err(|e| match e {
-        regex::Error::CompiledTooBig(_) => PatternFault::Refused(format!(
-            "the pattern would take more than {} MiB once compiled (its repetitions multiply); write it shorter",
-            MAX_COMPILED_BYTES >> 20
-        )),
-        // A count past the crate's repetition limit ({1000000}), or nesting too deep.
-        _ => PatternFault::Refused(format!("the pattern is beyond what ncsheet's regular expressions take: {e}")),
-    })?;
-    Ok(Compiled { regex, line_anchors })
+    // A count past the crate's repetition limit ({1000000}) or nesting too deep is refused
+    // with the crate's words, as is a pattern past the compiled size or the slot table.
+    let pattern =
+        regex_limits::compile_translated(&translated, ignore_case).map_err(|e| PatternFault::Refused(e.to_string()))?;
+    Ok(Compiled { pattern, line_anchors })
 }
 
 /// What one match holds, as the memory budget counts it: its text, its groups' texts and
@@ -611,7 +598,7 @@ fn each_match(
     global: bool,
     mut found: impl FnMut(regex::Match, Vec<Option<Rc<str>>>) -> bool,
 ) {
-    let regex = &compiled.regex;
+    let regex = &compiled.pattern.regex;
     let mut locations = regex.capture_locations();
     let mut at = 0;
     while at <= text.len() {
@@ -750,7 +737,22 @@ impl Interp<'_, '_> {
         let args = self.member_args(link, &["sourceString"])?;
         let text = self.regex_text(args[0], link, "sourceString")?;
         self.refuse_crlf_lines(compiled, &text, link)?;
+        self.search_work(compiled, &text, link)?;
         Ok(text)
+    }
+
+    /// A search of `text`, refused before it runs past the work limit of `regex_limits`, and
+    /// counted against the statement limit as text work: a loop of searches each within
+    /// the limit still ends.
+    #[inline(never)]
+    fn search_work(&self, compiled: &Compiled, text: &str, link: &Link) -> Run<()> {
+        if let Err(too_much) = compiled.pattern.check(text) {
+            let mut f = self.fault_at(link.span, format!("{}: {too_much}", link.name));
+            f.kind = super::ErrorKind::Limit;
+            return Err(f);
+        }
+        self.add_work(compiled.pattern.work(text) / SEARCH_WORK_PER_UNIT);
+        Ok(())
     }
 
     /// VBScript's `^`/`$` under MultiLine also match between a CR and its LF, which the
@@ -901,7 +903,7 @@ impl Interp<'_, '_> {
             "test" => {
                 let compiled = self.compiled(settings, link.span, "Test")?;
                 let text = self.searched(&compiled, link)?;
-                flag(compiled.regex.is_match(&text))
+                flag(compiled.pattern.regex.is_match(&text))
             }
             "execute" => {
                 let compiled = self.compiled(settings, link.span, "Execute")?;
@@ -917,6 +919,7 @@ impl Interp<'_, '_> {
                 let args = self.member_args(link, &["sourceString", "replaceString"])?;
                 let text = self.regex_text(args[0], link, "sourceString")?;
                 self.refuse_crlf_lines(&compiled, &text, link)?;
+                self.search_work(&compiled, &text, link)?;
                 let replacement = self.regex_text(args[1], link, "replaceString")?;
                 let limit = self.options.max_string;
                 let replaced = replace(&compiled, &text, &replacement, settings.borrow().global, limit)

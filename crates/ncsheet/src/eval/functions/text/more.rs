@@ -1,12 +1,13 @@
 //! Numbers as text and text as numbers (ROMAN, ARABIC, BASE, DECIMAL), REPLACE, CLEAN and
 //! the regular-expression functions (REGEXTEST, REGEXEXTRACT, REGEXREPLACE, through the
-//! `regex` crate, whose syntax is PCRE2's for what workbooks use).
+//! `regex` crate, whose syntax is PCRE2's for what workbooks use, within the limits of
+//! `eval/regex_limits.rs`).
 
+use std::cell::RefCell;
 use std::rc::Rc;
 
-use regex::{Regex, RegexBuilder};
-
 use crate::eval::functions::api::{check, scalar, Ctx, FnSpec, Scalars};
+use crate::eval::regex_limits::{self, Pattern, PatternError};
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
@@ -214,25 +215,59 @@ fn clean(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     scalar(ctx, args, &|a| Ok(Value::text(a.text(0)?.chars().filter(|&c| c as u32 >= 32).collect::<String>())))
 }
 
-/// The pattern of argument `pattern`, case-insensitive when argument `case` is 1.
-fn pattern(a: Scalars, pattern: usize, case: usize) -> XlResult<Regex> {
+/// A limit of `eval/regex_limits.rs` one item met, noted once the lifted call returns (its
+/// closure cannot reach the context).
+type Refusal = RefCell<Option<String>>;
+
+/// `#NUM!`, the reason kept for the cell's note.
+fn refuse(refusal: &Refusal, why: impl std::fmt::Display) -> XlError {
+    *refusal.borrow_mut() = Some(why.to_string());
+    XlError::Num
+}
+
+/// `result`, with the limit an item met named in the cell's note.
+fn explained(ctx: &mut Ctx, name: &str, refusal: Refusal, result: XlResult<Value>) -> XlResult<Value> {
+    if let Some(why) = refusal.into_inner() {
+        ctx.explain(XlError::Num, format!("{name}: {why}"));
+    }
+    result
+}
+
+/// The pattern of argument `pattern`, case-insensitive when argument `case` is 1: `#VALUE!`
+/// when it does not parse (Excel's error), `#NUM!` past a limit of `regex_limits`.
+fn pattern(a: Scalars, pattern: usize, case: usize, refusal: &Refusal) -> XlResult<Pattern> {
     let text = a.text(pattern)?;
     let case = a.num_or(case, 0.0)?.trunc();
     check(case == 0.0 || case == 1.0, XlError::Value)?;
-    RegexBuilder::new(&text).case_insensitive(case == 1.0).build().map_err(|_| XlError::Value)
-}
-
-fn regex_test(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
-        let text = a.text(0)?;
-        Ok(Value::Bool(pattern(a, 1, 2)?.is_match(&text)))
+    regex_limits::compile(&text, case == 1.0).map_err(|e| match e {
+        PatternError::Syntax(_) => XlError::Value,
+        limit => refuse(refusal, limit),
     })
 }
 
+/// Argument 0, the text searched, and argument `at` its pattern, once a search of the text
+/// with the pattern is within the work limit.
+fn searched(a: Scalars, at: usize, case: usize, refusal: &Refusal) -> XlResult<(Rc<str>, Pattern)> {
+    let text = a.text(0)?;
+    let re = pattern(a, at, case, refusal)?;
+    re.check(&text).map_err(|work| refuse(refusal, work))?;
+    Ok((text, re))
+}
+
+fn regex_test(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
+    let refusal = Refusal::default();
+    let result = scalar(ctx, args, &|a| {
+        let (text, re) = searched(a, 1, 2, &refusal)?;
+        Ok(Value::Bool(re.regex.is_match(&text)))
+    });
+    explained(ctx, "REGEXTEST", refusal, result)
+}
+
 fn regex_extract(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
-        let text = a.text(0)?;
-        let re = pattern(a, 1, 3)?;
+    let refusal = Refusal::default();
+    let result = scalar(ctx, args, &|a| {
+        let (text, pattern) = searched(a, 1, 3, &refusal)?;
+        let re = &pattern.regex;
         let mode = a.num_or(2, 0.0)?.trunc();
         // Every match, across a row: Excel spills them to the right (calc_tests/TEXT/REGEX.xlsx).
         let texts = |items: Vec<Value>| -> XlResult<Value> {
@@ -251,13 +286,15 @@ fn regex_extract(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             }
             _ => Err(XlError::Value),
         }
-    })
+    });
+    explained(ctx, "REGEXEXTRACT", refusal, result)
 }
 
 fn regex_replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    scalar(ctx, args, &|a| {
-        let text = a.text(0)?;
-        let re = pattern(a, 1, 4)?;
+    let refusal = Refusal::default();
+    let result = scalar(ctx, args, &|a| {
+        let (text, pattern) = searched(a, 1, 4, &refusal)?;
+        let re = &pattern.regex;
         let replacement = a.text(2)?;
         let occurrence = a.num_or(3, 0.0)?.trunc();
         if occurrence == 0.0 {
@@ -272,7 +309,8 @@ fn regex_replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         caps.expand(&replacement, &mut out);
         out.push_str(&text[whole.end()..]);
         Ok(Value::text(out))
-    })
+    });
+    explained(ctx, "REGEXREPLACE", refusal, result)
 }
 
 #[cfg(test)]
