@@ -806,6 +806,25 @@ fn dictionary_keys_keep_their_type_and_numbers_match_by_value() {
     assert_eq!(out, ["TrueFalsetrue", "TrueTrueTrue 3 ", " 457 "]);
 }
 
+// "Split function": the reference's example assigns Split's result to `Dim arrSplitStrings1()
+// As String`, which only a `String()` can be ("Split function" returns a String array; so
+// "TypeName function" gives "String()" and "VarType function" vbArray + vbString, 8200).
+// [MS-VBAL] 5.4.3.1.2 (Let assignment to an array element): a Variant holding an array of a
+// declared type (`v = a` with `Dim a() As Long`) holds that typed array, and an item Let
+// into it is converted to the item type, "7" becoming the Long 7 and "abc" a type mismatch
+// ("Trappable errors": 13).
+#[test]
+fn split_gives_a_string_array_and_a_typed_array_in_a_variant_converts_its_items() {
+    let out = printed(
+        "    s = Split(\"a,b\", \",\")\n    Debug.Print TypeName(s); VarType(s); TypeName(Filter(s, \"a\"))\n\
+         \x20   Dim parts() As String\n    parts = Split(\"x y\")\n    Debug.Print UBound(parts); parts(1)\n\
+         \x20   s(0) = 5\n    Debug.Print TypeName(s(0))\n\
+         \x20   Dim a() As Long\n    ReDim a(2)\n    v = a\n    v(0) = \"7\"\n    Debug.Print TypeName(v); \" \"; TypeName(v(0)); v(0) + 1\n\
+         \x20   On Error Resume Next\n    v(1) = \"abc\"\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, ["String() 8200 String()", " 1 y", "String", "Long() Long 8 ", " 13 "]);
+}
+
 // Objects as Dictionary keys ("Add method (Dictionary)": a key may be any type but an
 // array) are not ncsheet's: its keys are values, and Keys gives them as an array of values.
 // The macro is refused with the reason, not keyed by something else.

@@ -367,9 +367,10 @@ impl Interp<'_, '_> {
         // The item's text, and the array's items when it is shared and so copied first.
         self.charge(self.copy_if_shared(name) + super::budget::value_bytes(&v), span)?;
         let result = self.with_slot(name, |slot| {
-            let ty = slot.ty.clone();
             let own = slot.name.clone();
+            let declared = slot.ty.clone();
             let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
+            let ty = element_type(declared, a);
             let k = self.element_at(a, &at).map_err(|m| format!("{own}: {m}"))?;
             let item = match convert(Var::Value(v.clone()), ty.as_ref(), &own)? {
                 Var::Value(item) => item,
@@ -668,6 +669,17 @@ impl Interp<'_, '_> {
         at.push(i);
         let items = self.module.types[ty].fields[i].1.clone();
         Ok(self.record_field(&var, &at).filter(|f| matches!(f, Var::Array(_))).map(|array| (array, items)))
+    }
+}
+
+/// The type an item assigned to the array `a` takes: the variable's declared item type, or,
+/// for a Variant holding a typed array (`v = a` with `Dim a() As Long`, `v = Split(…)`), the
+/// array's own ([MS-VBAL] 5.4.3.1.2: the array keeps its declared type, so `v(0) = "7"`
+/// stores the Long 7 and `v(0) = "abc"` is a type mismatch, error 13).
+fn element_type(declared: Option<Ty>, a: &VArray) -> Option<Ty> {
+    match Declared::of_ty(declared.as_ref()) {
+        Declared::Variant => a.item_type.ty().or(declared),
+        _ => declared,
     }
 }
 

@@ -560,7 +560,12 @@ pub(super) fn library_array(e: &Expr, v: &Value, base: i64) -> Option<Var> {
         _ if data.rows == 1 && data.cols > 1 => 1,
         _ => return None,
     };
-    Some(Var::Array(VArray::row(data.clone(), lower)))
+    let mut array = VArray::row(data.clone(), lower);
+    // "Split function" and "Filter function" return arrays of strings: a `String()`.
+    if matches!(crate::eval::functions::spec(*id).name, "VBA.SPLIT" | "VBA.FILTER") {
+        array.item_type = super::typing::Declared::String;
+    }
+    Some(Var::Array(array))
 }
 
 /// The VarType number of a declared type (`None`: a Variant, which answers what it holds).

@@ -129,9 +129,10 @@ impl VArray {
     }
 
     /// The type of the number the item at row-major position `k` holds, where it is not a
-    /// Double (in a Variant array); `Variant` otherwise.
+    /// Double (in a Variant array), or the array's declared item type (a `Long()` a Variant
+    /// holds gives a Long); `Variant` otherwise.
     pub(super) fn held(&self, k: usize) -> Declared {
-        self.held_types.as_ref().and_then(|d| d.get(&k).copied()).unwrap_or(Declared::Variant)
+        self.held_types.as_ref().and_then(|d| d.get(&k).copied()).unwrap_or(self.item_type)
     }
 
     /// Notes whether the item at `k` now holds a Date.
