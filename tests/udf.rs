@@ -517,3 +517,59 @@ fn two_sheets_of_numbers() -> Workbook {
     }
     wb
 }
+
+/// A project of 300 standard modules, each with its own `Private Function Step` and a public
+/// Function using it, one of them cut short. VBA compiles a project as one program ("Understanding
+/// scope and visibility": a Private procedure is its module's own, a Public one everybody's),
+/// and ncsheet parses it as one, once: each module was parsed with all the others' code after
+/// it, and an .xlsm of 250 one-Function modules took 36 s to open, 2,000 did not finish.
+/// Counted, not timed: the parser reads the project's source about once, not once a module.
+/// Worked out by hand: F1(1) = 1 + 1, M300.F300(2) = 2 + 300, F150(F2(0)) = (0 + 2) + 150.
+/// The module cut short is named when a cell calls its Function; the others still compute
+/// (its error used to fail every module joined with it).
+#[test]
+fn a_project_of_many_modules_is_parsed_once_and_one_broken_module_leaves_the_others() {
+    use ncsheet::vba::project::{build_project, NewModule};
+    const MODULES: usize = 300;
+    const BROKEN: usize = 7;
+    let module = |i: usize| NewModule {
+        name: format!("M{i}"),
+        kind: STANDARD,
+        source: if i == BROKEN {
+            format!("Public Function F{i}(x)\r\n    F{i} = (x +\r\n")
+        } else {
+            format!(
+                "Private Function Step()\r\n    Step = {i}\r\nEnd Function\r\n\
+                 Public Function F{i}(x)\r\n    F{i} = x + Step()\r\nEnd Function\r\n"
+            )
+        },
+    };
+    let modules: Vec<NewModule> = (1..=MODULES).map(module).collect();
+    let source_bytes: usize = modules.iter().map(|m| m.source.len()).sum();
+    let mut wb = Workbook::with_sheet();
+    let cells =
+        [("A1", "=F1(1)"), ("A2", "=M300.F300(2)"), ("A3", "=F150(F2(0))"), ("A4", "=Step()"), ("A5", "=F7(1)")];
+    for (cell, text) in cells {
+        wb.set_input(0, at(cell), text).unwrap();
+    }
+    let layout = xlsx::Layout { vba_project: Some(build_project(&modules, 0x31).unwrap()), ..Default::default() };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("many.xlsm");
+    let encoded = ncsheet::io::encode_save(&wb, Some(&layout), &ncsheet::io::Origin::New, &path).unwrap();
+    encoded.write(Default::default()).unwrap();
+
+    let before = ncsheet::vba::work_done();
+    let doc = ncsheet::document::Document::open_file(&path, &ncsheet::document::OpenOptions::named(&path)).unwrap();
+    let parsed = (ncsheet::vba::work_done() - before).source_parsed;
+    let wb = doc.workbook();
+    assert_eq!(number(wb, "A1"), 2.0);
+    assert_eq!(number(wb, "A2"), 302.0);
+    assert_eq!(number(wb, "A3"), 152.0);
+    assert_eq!(wb.value(0, at("A4")), Value::Error(XlError::Name), "a Private Function is no cell's");
+    assert_eq!(wb.value(0, at("A5")), Value::Error(XlError::Name));
+    assert!(doc.notes().iter().any(|n| n.starts_with("module M7: ") && n.contains("(F7 …)")), "{:?}", doc.notes());
+    // The whole twice (the broken module made it parse again without it) and each module once
+    // read alone to find the broken one: 3 times the source, where each module parsed with the
+    // others read it 300 times.
+    assert!(parsed <= 4 * source_bytes as u64, "{parsed} bytes parsed for a project of {source_bytes}");
+}

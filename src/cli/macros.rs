@@ -210,10 +210,16 @@ pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModu
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
     let opened = ncsheet::document::Document::open_file(file, &super::open_options(None))?.into_opened();
-    let Some(bytes) = opened.layout.and_then(|l| l.vba_project) else {
+    project_in(file, opened.layout.as_ref())
+}
+
+/// The VBA project of workbook `file` already open (its parts `layout`), read again from its
+/// bytes rather than by opening the workbook again (which parses every module again too).
+pub fn project_in(file: &Path, layout: Option<&ncsheet::io::xlsx::Layout>) -> Result<VbaProject> {
+    let Some(bytes) = layout.and_then(|l| l.vba_project.as_deref()) else {
         return Err(Error::User(format!("{}: the workbook holds no VBA project (xl/vbaProject.bin)", file.display())));
     };
-    read_project(&bytes).map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))
+    read_project(bytes).map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))
 }
 
 /// The module a `run` of a workbook's own macros means, and the Sub to call in it:

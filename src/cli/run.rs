@@ -226,8 +226,8 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             MachineKind::Lathe => Machine::Lathe,
             MachineKind::Mill => Machine::Mill,
         },
-        project: other_modules(&args, file, code_page)?,
-        classes: class_modules(&args, code_page)?,
+        project: other_modules(&args, doc.layout(), file, code_page)?,
+        classes: class_modules(&args, doc.layout(), code_page)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
         files: macro_files::access(
             args.out_dir.as_deref(),
@@ -375,7 +375,7 @@ fn macro_source(
         let source = super::macros::read_module_text(file, code_page)?;
         return Ok((file.clone(), source, args.sub.clone(), None));
     }
-    let project = super::macros::open_project(&args.workbook)?;
+    let project = super::macros::project_in(&args.workbook, layout)?;
     let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
     let place = args.workbook.join(&module.name);
     let document = document_of(module, layout).map_err(|m| Error::User(format!("{}: {m}", place.display())))?;
@@ -384,12 +384,17 @@ fn macro_source(
 
 /// The project's other standard modules, whose public code the module run sees as VBA
 /// compiles a project as one program (none for a .bas file given on its own).
-fn other_modules(args: &RunArgs, running: &std::path::Path, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
+fn other_modules(
+    args: &RunArgs,
+    layout: Option<&Layout>,
+    running: &std::path::Path,
+    code_page: Option<u16>,
+) -> Result<Vec<(String, String)>> {
     let mut modules = given_modules(args, ModuleKind::Standard, code_page)?;
     if args.macro_file.is_some() {
         return Ok(modules);
     }
-    let project = super::macros::open_project(&args.workbook)?;
+    let project = super::macros::project_in(&args.workbook, layout)?;
     let own = running.file_name().and_then(|n| n.to_str()).unwrap_or_default();
     let others = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard && m.name != own);
     modules.extend(others.map(|m| (m.name.clone(), m.source.clone())));
@@ -398,10 +403,10 @@ fn other_modules(args: &RunArgs, running: &std::path::Path, code_page: Option<u1
 
 /// The project's class modules: the workbook's own (none for a .bas file given on its own)
 /// and the .cls files given with --module.
-fn class_modules(args: &RunArgs, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
+fn class_modules(args: &RunArgs, layout: Option<&Layout>, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
     let mut classes = given_modules(args, ModuleKind::Class, code_page)?;
     if args.macro_file.is_none() {
-        let project = super::macros::open_project(&args.workbook)?;
+        let project = super::macros::project_in(&args.workbook, layout)?;
         let own = project.modules.iter().filter(|m| m.kind == ModuleKind::Class);
         classes.extend(own.map(|m| (m.name.clone(), m.source.clone())));
     }

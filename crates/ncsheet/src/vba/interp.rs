@@ -44,6 +44,12 @@ pub(super) const ITEMS_PER_STATEMENT: u64 = 16;
 /// four units a statement keep the dearest within the time the limit stands for.
 pub(super) const WORK_PER_STATEMENT: u64 = 4;
 
+/// The statements a trapped error counts for besides the statement that raised it
+/// ([`Interp::trap`]): measured in release, a raise handled by `On Error Resume Next` or a
+/// handler costs about 1.25 µs, two statements' time (0.57 µs each), and a loop of them ran
+/// 21–37 s before the limit stopped it; three keep it within the time the limit stands for.
+pub(super) const TRAPPED_ERROR_STATEMENTS: u64 = 3;
+
 /// Runs the entry procedure that `options` chooses.
 pub fn run(
     module: &Module,
@@ -82,7 +88,8 @@ pub fn run(
     // it gives the cells (`Range.Text` in a function shows the format the macro set).
     let looks = Rc::new(RefCell::new(super::formats::Looks::new(wb, &options.looks)));
     super::udf::share_looks(wb, &looks);
-    let mut it = Interp::new(module, options, source, Book::Mut(wb), None);
+    let shared = Shared::new(source);
+    let mut it = Interp::new(module, options, source, &shared, Book::Mut(wb), None);
     it.looks = looks;
     it.active.set(active);
     it.home = home;
@@ -109,25 +116,51 @@ pub fn run(
     }
 }
 
+/// What the runs of one program share, worked out once for it rather than at each call of a
+/// workbook's function from a cell (a short call spent half its time asking the system where
+/// the thread's stack ends, which for the main thread reads /proc/self/maps, and most of the
+/// rest going over the whole project's source).
+pub struct Shared {
+    /// Where the source's lines start.
+    lines: Rc<Lines>,
+    /// The source may hold a Single or a Currency ([`Interp::narrow_numbers`]).
+    narrow_numbers: bool,
+    /// The bounds of the stack of the thread the calls run on, once a call has read them:
+    /// the holder (`udf.rs`, not `Send`) stays on the thread that made it.
+    stack: Cell<Option<(usize, usize)>>,
+}
+
+impl Shared {
+    pub fn new(source: &str) -> Shared {
+        Shared {
+            lines: Rc::new(Lines::new(source)),
+            narrow_numbers: super::typing::names_single_or_currency(source),
+            stack: Cell::new(None),
+        }
+    }
+}
+
 /// Calls Function `proc` of `module` from a cell of `wb` on `args` (a workbook's own function,
 /// `udf.rs`): cells are read through `cells`, and any write to the workbook is an error.
+/// `shared` is the program's, made from `source`.
 #[allow(clippy::too_many_arguments)]
 pub fn call_function(
     module: &Module,
     wb: &Workbook,
     cells: &dyn crate::eval::Env,
-    source: &str,
+    (source, shared): (&str, &Shared),
     file: &str,
     options: &RunOptions,
     (proc, caller): (usize, (SheetId, Pos)),
     args: Vec<Var>,
     looks: Rc<RefCell<super::formats::Looks>>,
 ) -> (Result<Value, MacroError>, u64) {
-    let mut it = Interp::new(module, options, source, Book::Read(wb), Some(cells));
+    let mut it = Interp::new(module, options, source, shared, Book::Read(wb), Some(cells));
     it.looks = looks;
     it.active.set(caller.0);
     it.caller = Some(caller);
     let result = it.start_function(proc, args);
+    shared.stack.set(it.stack_low.get());
     let steps = it.steps.get();
     let output = it.out.into_inner();
     (result.map_err(|fault| it_error(source, file, fault, output)), steps)
@@ -312,7 +345,7 @@ pub struct Interp<'m, 'w> {
     pub module: &'m Module,
     pub options: &'m RunOptions,
     source: &'m str,
-    lines: Lines,
+    lines: Rc<Lines>,
     pub wb: RefCell<Book<'w>>,
     /// Where cells are read when a cell's formula called the function: the workbook, or the
     /// recalculation's probe, which notes what is read (cycles are found through it).
@@ -417,6 +450,7 @@ impl<'m, 'w> Interp<'m, 'w> {
         module: &'m Module,
         options: &'m RunOptions,
         source: &'m str,
+        shared: &Shared,
         wb: Book<'w>,
         cells: Option<&'w dyn crate::eval::Env>,
     ) -> Interp<'m, 'w> {
@@ -424,7 +458,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             module,
             options,
             source,
-            lines: Lines::new(source),
+            lines: Rc::clone(&shared.lines),
             wb: RefCell::new(wb),
             cells,
             caller: None,
@@ -457,7 +491,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             charged: Cell::new(0),
             err: RefCell::new(ErrState::default()),
             gosubs: Cell::new(0),
-            stack_low: Cell::new(None),
+            stack_low: Cell::new(shared.stack.get()),
             files: RefCell::new(super::files::Files::default()),
             node_types: RefCell::default(),
             gave: Cell::new(Declared::Variant),
@@ -466,7 +500,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             types_known: Default::default(),
             exact: RefCell::default(),
             iif_branch: Cell::new((0, 0, 0)),
-            narrow_numbers: super::typing::names_single_or_currency(source),
+            narrow_numbers: shared.narrow_numbers,
         }
     }
 }
@@ -2134,6 +2168,8 @@ impl Interp<'_, '_> {
         if fault.kind != ErrorKind::Runtime || untrappable.contains(&fault.code) || self.ended.get() {
             return Err(fault);
         }
+        // Counted here, checked at the next statement: the handler's or the one after.
+        self.steps.set(self.steps.get().saturating_add(TRAPPED_ERROR_STATEMENTS));
         let label = match mode {
             OnError::ResumeNext => {
                 *self.err.borrow_mut() = self.err_state_here(&fault);

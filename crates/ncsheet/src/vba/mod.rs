@@ -339,6 +339,9 @@ pub struct Work {
     pub items_measured: u64,
     /// Parts of expressions looked at to work out their types (`typing.rs`).
     pub nodes_typed: u64,
+    /// Bytes of macro source the parser read: a project's modules joined count once for
+    /// each parse of the whole (`udf.rs` parses a workbook's project once, not once a module).
+    pub source_parsed: u64,
 }
 
 /// The work done between two readings of [`work_done`].
@@ -354,6 +357,7 @@ impl std::ops::Sub for Work {
             text_copied: self.text_copied - before.text_copied,
             items_measured: self.items_measured - before.items_measured,
             nodes_typed: self.nodes_typed - before.nodes_typed,
+            source_parsed: self.source_parsed - before.source_parsed,
         }
     }
 }
@@ -366,6 +370,7 @@ thread_local! {
     pub(crate) static TEXT_COPIED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static ITEMS_MEASURED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static NODES_TYPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static SOURCE_PARSED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Adds `n` to one of the counters of [`Work`].
@@ -393,6 +398,8 @@ pub(crate) const TEXT_COPIED: Counter = ();
 pub(crate) const ITEMS_MEASURED: Counter = ();
 #[cfg(not(feature = "testing"))]
 pub(crate) const NODES_TYPED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const SOURCE_PARSED: Counter = ();
 
 /// The work counted on this thread so far ([`Work`]).
 #[cfg(feature = "testing")]
@@ -404,6 +411,7 @@ pub fn work_done() -> Work {
         text_copied: TEXT_COPIED.with(|c| c.get()),
         items_measured: ITEMS_MEASURED.with(|c| c.get()),
         nodes_typed: NODES_TYPED.with(|c| c.get()),
+        source_parsed: SOURCE_PARSED.with(|c| c.get()),
     }
 }
 
@@ -723,29 +731,53 @@ pub fn parse(source: &str, file_name: &str, workbook: &Workbook) -> Result<Modul
 /// [`parse`] knowing what `options` adds to the names: the sheets' code names, and `Me` in
 /// a document module.
 fn parse_with(source: &str, file_name: &str, workbook: &Workbook, options: &RunOptions) -> Result<Module, MacroError> {
+    parse_joined(source, file_name, workbook, options).map(|(module, _)| module)
+}
+
+/// [`parse_with`], also giving the source parsed: `source` with the project's other modules
+/// (`options.project`, `options.classes`) joined after it, or `None` when there are none.
+fn parse_joined(
+    source: &str,
+    file_name: &str,
+    workbook: &Workbook,
+    options: &RunOptions,
+) -> Result<(Module, Option<String>), MacroError> {
     let mut objects: Vec<String> = options.code_names.iter().map(|(code, _)| code.to_ascii_lowercase()).collect();
     if options.document.is_some() {
         objects.push("me".into());
     }
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
     let (joined, parts) = join_project(own, source, &options.project, &options.classes);
-    let source = joined.as_deref().unwrap_or(source);
+    let parsed = joined.as_deref().unwrap_or(source);
     let files = options.files.is_some();
-    parser::parse_module_with_files(source, &|n| workbook.sheet_id(n), &objects, &parts, files).map_err(|e| {
-        let lines = parser::Lines::new(source);
-        let span = lines.span(source, e.offset);
-        let mut e = MacroError {
-            kind: ErrorKind::Syntax,
-            file: file_name.to_string(),
-            span: Some(span),
-            message: e.message,
-            source_line: lines.text(source, span.line).to_string(),
-            trace: Vec::new(),
-            output: Box::new(RunOutput::new("", Machine::Lathe)),
-        };
-        relocate(&mut e, &parts);
-        e
-    })
+    match parser::parse_module_with_files(parsed, &|n| workbook.sheet_id(n), &objects, &parts, files) {
+        Ok(module) => Ok((module, joined)),
+        Err(e) => Err(syntax_error(e, parsed, file_name, &parts)),
+    }
+}
+
+/// A parse error of `source` (named `file_name`, of the project's modules `parts`) as the
+/// macro error naming its module, line and column.
+fn syntax_error(e: parser::SyntaxError, source: &str, file_name: &str, parts: &[ast::Part]) -> MacroError {
+    let lines = parser::Lines::new(source);
+    let span = lines.span(source, e.offset);
+    let mut e = MacroError {
+        kind: ErrorKind::Syntax,
+        file: file_name.to_string(),
+        span: Some(span),
+        message: e.message,
+        source_line: lines.text(source, span.line).to_string(),
+        trace: Vec::new(),
+        output: Box::new(RunOutput::new("", Machine::Lathe)),
+    };
+    relocate(&mut e, parts);
+    e
+}
+
+/// The first error of the grammar in module `source` (named `name`) read on its own, its
+/// names unresolved: a module cut short is named itself, not the module joined after it.
+fn grammar_error(source: &str, name: &str) -> Option<MacroError> {
+    parser::grammar_error(source).map(|e| syntax_error(e, source, name, &[]))
 }
 
 /// `source` with the code of the project's other modules after it, its class modules last
@@ -773,11 +805,15 @@ fn join_project(
     let mut parts = vec![own];
     let classes = classes.iter().filter(|(_, source)| parser::in_grammar(source));
     let modules = others.iter().map(|m| (m, false)).chain(classes.map(|c| (c, true)));
+    // The line breaks in `out`, counted as they are written: counting them again for each
+    // module made a project of 2,000 modules quadratic.
+    let mut breaks = source.matches('\n').count();
     for ((name, other), class) in modules {
         if !out.ends_with('\n') {
             out.push_str("\r\n");
+            breaks += 1;
         }
-        let first_line = out.matches('\n').count() as u32 + 1;
+        let first_line = breaks as u32 + 1;
         let predeclared = class && classes::has_predeclared_id(other);
         let special = if class { classes::special_members(other) } else { ast::SpecialMembers::default() };
         parts.push(ast::Part { name: name.as_str().into(), first_line, class, predeclared, special });
@@ -786,6 +822,7 @@ fn join_project(
                 out.push_str(line);
             }
             out.push_str("\r\n");
+            breaks += 1;
         }
     }
     (Some(out), parts)
@@ -819,13 +856,12 @@ pub fn run(
     file_name: &str,
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
-    let module = parse_with(source, file_name, workbook, options)?;
+    let (module, joined) = parse_joined(source, file_name, workbook, options)?;
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
     udf::install_run_functions(workbook, own, source, options);
-    let (joined, parts) = join_project(own, source, &options.project, &options.classes);
     let source = joined.as_deref().unwrap_or(source);
     interp::run(&module, workbook, source, file_name, options).map_err(|mut e| {
-        relocate(&mut e, &parts);
+        relocate(&mut e, &module.parts);
         e
     })
 }

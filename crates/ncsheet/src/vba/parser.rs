@@ -105,11 +105,10 @@ pub fn parse_module_with_files(
     parts: &[Part],
     files: bool,
 ) -> Result<Module, SyntaxError> {
+    super::count(&super::SOURCE_PARSED, src.len() as u64);
     let prepared = super::conditional::prepare(src)?;
     let src = &*prepared;
-    limits::check_nesting(src, limits::Language::Macro)?;
-    limits::check_block_nesting(src)?;
-    let mut pairs = FormulaGrammar::parse(Rule::module, src).map_err(from_pest)?;
+    let mut pairs = module_pairs(src)?;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
     let mut b = Build::new(src, sheets, &items, parts)?;
@@ -194,6 +193,24 @@ pub fn parse_module_with_files(
     out.text_compare = first.text_compare;
     out.nodes = b.nodes.into_inner();
     Ok(out)
+}
+
+/// The items of module `src` (its conditional compilation already applied) as the grammar
+/// reads them, after the checks that keep its nesting within the parser's stack.
+fn module_pairs(src: &str) -> Res<pest::iterators::Pairs<'_, Rule>> {
+    limits::check_nesting(src, limits::Language::Macro)?;
+    limits::check_block_nesting(src)?;
+    FormulaGrammar::parse(Rule::module, src).map_err(from_pest)
+}
+
+/// The first error of the grammar in module `src` read on its own, its names not resolved.
+pub(super) fn grammar_error(src: &str) -> Option<SyntaxError> {
+    super::count(&super::SOURCE_PARSED, src.len() as u64);
+    let prepared = match super::conditional::prepare(src) {
+        Ok(prepared) => prepared,
+        Err(e) => return Some(e),
+    };
+    module_pairs(&prepared).err()
 }
 
 /// Whether a module's text is in the language's grammar (a procedure of it may still fail to

@@ -15,30 +15,45 @@ use crate::workbook::{UserFunctions, Workbook};
 
 use super::ast::{Module, ProcKind};
 use super::formats::Looks;
-use super::project::{ModuleKind, VbaProject};
+use super::project::{ModuleKind, ProjectModule, VbaProject};
 use super::value::{array_var, Obj, Var};
-use super::{interp, parse_with, Deadline, MacroError, RunOptions};
+use super::{interp, Deadline, MacroError, RunOptions};
 
 /// The deepest a function called from a cell may be allowed to nest its calls
 /// (`FunctionLimits::max_depth` in the settings is held to it): it may run inside a macro already deep (a
 /// macro's write recalculates the cells), whose stack must hold both.
 pub const FUNCTION_MAX_DEPTH: usize = 32;
 
-/// The most source, in bytes, of a project whose modules are parsed with one another's code.
-const MAX_JOINED: usize = 1 << 20;
+/// The most modules of a project the parser leaves out for what it finds in them when read
+/// with the others' code (a name none declares, a procedure defined twice) before it gives up
+/// on the rest: each costs a parse of the whole project again.
+const MAX_BROKEN_MODULES: usize = 8;
 
-/// One standard module, parsed once.
-struct Parsed {
-    name: String,
-    source: String,
+/// The project's standard and class modules parsed once, together, as VBA compiles a project
+/// as one program: each module's Private names its own, the Public ones everybody's.
+struct Program {
     module: Module,
-    /// For each procedure: callable from a cell (a public Function), and volatile.
-    callable: Vec<Option<bool>>,
+    /// The modules' code joined, the first's first (what `module`'s places point into).
+    source: String,
+    /// The first module's name: the others' places are named by `module.parts`.
+    first: String,
+    /// What its calls share, worked out once.
+    shared: interp::Shared,
+}
+
+/// A public Function of a standard module, callable from a cell.
+struct Function {
+    module: Rc<str>,
+    proc: usize,
+    /// Its body calls `Application.Volatile`.
+    volatile: bool,
 }
 
 /// The public Functions of a VBA project's standard modules, as a workbook's own functions.
 pub struct WorkbookFunctions {
-    modules: Vec<Parsed>,
+    program: Option<Program>,
+    /// The callable Functions by lower-case name, in the order of their modules.
+    functions: std::collections::HashMap<Box<str>, Vec<Function>>,
     options: RunOptions,
     /// Statements the calls of the current recalculation ran, against
     /// the settings' `FunctionLimits::statements_per_recalculation`.
@@ -65,7 +80,7 @@ pub(super) fn share_looks(wb: &Workbook, looks: &Rc<RefCell<Looks>>) {
 /// stay `#NAME?`. Calls nest at most [`FUNCTION_MAX_DEPTH`] deep.
 pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOptions) -> Vec<MacroError> {
     let (functions, errors) = WorkbookFunctions::new(project, wb, options);
-    if !functions.modules.is_empty() {
+    if functions.program.is_some() {
         wb.set_user_functions(Rc::new(functions));
     }
     errors
@@ -94,7 +109,7 @@ pub(super) fn install_run_functions(wb: &mut Workbook, own: &str, source: &str, 
     }
     let project = VbaProject { code_page: 65001, modules, protection: None };
     let (functions, _) = WorkbookFunctions::new(&project, wb, options.clone());
-    if functions.modules.iter().any(|m| m.callable.iter().any(Option::is_some)) {
+    if !functions.functions.is_empty() {
         wb.set_user_functions(Rc::new(functions));
     }
 }
@@ -105,46 +120,28 @@ impl WorkbookFunctions {
         let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
         // A cell's call has no command options to raise its limits: its messages say so.
         let options = RunOptions { looks: Vec::new(), limits_from: super::LimitsFrom::CellFunction, ..options };
-        let mut modules = Vec::new();
-        let mut errors = Vec::new();
-        let standard: Vec<_> = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard).collect();
-        let total: usize = standard.iter().map(|m| m.source.len()).sum();
-        let classes: Vec<(String, String)> = (project.modules.iter().filter(|m| m.kind == ModuleKind::Class))
-            .map(|m| (m.name.clone(), m.source.clone()))
-            .collect();
-        for m in &standard {
-            // With the others' code after it, as VBA compiles a project as one program (not
-            // for a project so large that parsing it once per module would be slow).
-            let mut own = options.clone();
-            if total + classes.iter().map(|c| c.1.len()).sum::<usize>() <= MAX_JOINED {
-                own.project =
-                    standard.iter().filter(|o| o.name != m.name).map(|o| (o.name.clone(), o.source.clone())).collect();
-                own.classes = classes.clone();
-            }
-            let (joined, _) = super::join_project(&m.name, &m.source, &own.project, &own.classes);
-            match parse_with(&m.source, &m.name, wb, &own) {
-                Ok(module) => {
-                    let source = joined.unwrap_or_else(|| m.source.clone());
-                    let callable = callable(&module, &source, m.source.lines().count());
-                    modules.push(Parsed { name: m.name.clone(), source, module, callable });
-                }
-                Err(e) => errors.push(e),
-            }
-        }
-        (WorkbookFunctions { modules, options, spent: Cell::new(0), began: Cell::new(Instant::now()), looks }, errors)
+        let (program, errors) = parse_project(&project.modules, wb, &options);
+        let functions = program.as_ref().map(callable_functions).unwrap_or_default();
+        let functions = WorkbookFunctions {
+            program,
+            functions,
+            options,
+            spent: Cell::new(0),
+            began: Cell::new(Instant::now()),
+            looks,
+        };
+        (functions, errors)
     }
 
-    /// The module and procedure a cell's call of `name` means, with its volatility.
-    fn find(&self, name: &str) -> Option<(&Parsed, usize, bool)> {
+    /// The Function a cell's call of `name` means.
+    fn find(&self, name: &str) -> Option<&Function> {
         let name = strip_prefix(name, "_xludf.");
         let (module, function) = match name.rsplit_once('.') {
             Some((m, f)) => (Some(m), f),
             None => (None, name),
         };
-        self.modules.iter().filter(|m| module.is_none_or(|n| n.eq_ignore_ascii_case(&m.name))).find_map(|m| {
-            let i = m.module.proc(function)?;
-            m.callable[i].map(|volatile| (m, i, volatile))
-        })
+        let same_name = self.functions.get(function.to_ascii_lowercase().as_str())?;
+        same_name.iter().find(|f| module.is_none_or(|n| n.eq_ignore_ascii_case(&f.module)))
     }
 
     /// When the calls of the current recalculation must stop, by the settings' time for one
@@ -163,7 +160,7 @@ impl WorkbookFunctions {
 
 impl UserFunctions for WorkbookFunctions {
     fn volatile(&self, name: &str) -> Option<bool> {
-        self.find(name).map(|(_, _, v)| v)
+        self.find(name).map(|f| f.volatile)
     }
 
     fn begin_recalculation(&self) {
@@ -176,23 +173,27 @@ impl UserFunctions for WorkbookFunctions {
     }
 
     fn call(&self, wb: &Workbook, cells: &dyn Env, call: &UserCall) -> Result<Value, Note> {
-        let Some((m, proc, _)) = self.find(call.name) else { return Ok(Value::Error(XlError::Name)) };
+        let (Some(f), Some(program)) = (self.find(call.name), self.program.as_ref()) else {
+            return Ok(Value::Error(XlError::Name));
+        };
+        let proc = f.proc;
+        let function = format!("{}.{}", f.module, program.module.procs[proc].name);
         let limits = wb.settings().functions;
         let left = limits.statements_per_recalculation.saturating_sub(self.spent.get());
         if left == 0 {
             let message = format!(
-                "{}.{} was not called: the workbook's VBA functions ran the {} statements one recalculation \
+                "{function} was not called: the workbook's VBA functions ran the {} statements one recalculation \
                  allows them (docs/limits.md)",
-                m.name, m.module.procs[proc].name, limits.statements_per_recalculation
+                limits.statements_per_recalculation
             );
             return Err(Note { error: XlError::Value, message });
         }
         let deadline = self.deadline(limits);
         if let Some(past) = deadline.filter(|d| Instant::now() > d.at) {
             let message = format!(
-                "{}.{} was not called: the workbook's VBA functions ran past the --timeout of {} s one \
+                "{function} was not called: the workbook's VBA functions ran past the --timeout of {} s one \
                  recalculation allows them (docs/limits.md)",
-                m.name, m.module.procs[proc].name, past.seconds
+                past.seconds
             );
             return Err(Note { error: XlError::Value, message });
         }
@@ -202,17 +203,21 @@ impl UserFunctions for WorkbookFunctions {
         options.max_statements = self.options.max_statements.min(limits.statements_per_call).min(left);
         options.max_depth = limits.max_depth.min(FUNCTION_MAX_DEPTH);
         let caller = call.caller;
-        let function = format!("{}.{}", m.name, m.module.procs[proc].name);
         let args = formula_arguments(call.args, &function, || wb.cell_name(caller.0, caller.1))?;
         let looks = Rc::clone(&self.looks.borrow());
+        let (module, source) = (&program.module, (program.source.as_str(), &program.shared));
         let (result, steps) =
-            interp::call_function(&m.module, wb, cells, &m.source, &m.name, &options, (proc, caller), args, looks);
+            interp::call_function(module, wb, cells, source, &program.first, &options, (proc, caller), args, looks);
         // A call stopped at its limit counted the statement it stopped at too.
         self.spent.set(self.spent.get().saturating_add(steps.min(options.max_statements)));
         match result {
             Ok(Value::Blank) => Ok(Value::Number(0.0)),
             Ok(v) => Ok(v),
-            Err(e) => Err(Note { error: XlError::Value, message: e.to_string() }),
+            Err(mut e) => {
+                // A place in another module is named by that module and its own line.
+                super::relocate(&mut e, &module.parts);
+                Err(Note { error: XlError::Value, message: e.to_string() })
+            }
         }
     }
 }
@@ -250,26 +255,107 @@ pub(super) fn formula_arguments(
     Ok(vars)
 }
 
-/// For each procedure of `module`: `Some(volatile)` for a public Function of the module's
-/// own first `own_lines` lines, else `None`. Volatile: its body calls `Application.Volatile`
-/// (without `False`).
-fn callable(module: &Module, source: &str, own_lines: usize) -> Vec<Option<bool>> {
-    let lines: Vec<&str> = source.lines().collect();
+/// Parses the standard and class modules of `modules` once, together. A module that does not
+/// parse is left out, with its error, and the others parsed again without it: each module
+/// read alone by the grammar first (linear in the project's size, and it names a module cut
+/// short, not the one joined after it), then, at most [`MAX_BROKEN_MODULES`] times, the
+/// module the whole names. Past that the rest is not parsed, each module given an error
+/// saying why.
+fn parse_project(modules: &[ProjectModule], wb: &Workbook, options: &RunOptions) -> (Option<Program>, Vec<MacroError>) {
+    let of_kind = |kind| modules.iter().filter(|m| m.kind == kind).collect::<Vec<_>>();
+    let (mut standard, mut classes) = (of_kind(ModuleKind::Standard), of_kind(ModuleKind::Class));
+    let mut errors = Vec::new();
+    let mut screened = false;
+    let mut broken = 0;
+    while let Some((first, others)) = standard.split_first() {
+        let e = match parse_program(first, others, &classes, wb, options) {
+            Ok(program) => return (Some(program), errors),
+            Err(e) => e,
+        };
+        if !screened {
+            screened = true;
+            let before = errors.len();
+            standard.retain(|m| super::grammar_error(&m.source, &m.name).map(|e| errors.push(e)).is_none());
+            if errors.len() > before {
+                continue;
+            }
+        }
+        broken += 1;
+        let name = e.file.clone();
+        errors.push(e);
+        let count = standard.len() + classes.len();
+        standard.retain(|m| m.name != name);
+        classes.retain(|m| m.name != name);
+        if standard.len() + classes.len() == count {
+            break;
+        }
+        if broken == MAX_BROKEN_MODULES {
+            errors.extend(standard.iter().map(|m| given_up(m, broken)));
+            break;
+        }
+    }
+    (None, errors)
+}
+
+/// Module `first` parsed with the code of `others` and `classes` after it.
+fn parse_program(
+    first: &ProjectModule,
+    others: &[&ProjectModule],
+    classes: &[&ProjectModule],
+    wb: &Workbook,
+    options: &RunOptions,
+) -> Result<Program, MacroError> {
+    let code = |m: &&ProjectModule| (m.name.clone(), m.source.clone());
+    let project = others.iter().map(code).collect();
+    let options = RunOptions { project, classes: classes.iter().map(code).collect(), ..options.clone() };
+    let (module, joined) = super::parse_joined(&first.source, &first.name, wb, &options)?;
+    let source = joined.unwrap_or_else(|| first.source.clone());
+    let shared = interp::Shared::new(&source);
+    Ok(Program { module, source, first: first.name.clone(), shared })
+}
+
+/// Why module `m` was not parsed: `broken` of the project's modules did not parse.
+fn given_up(m: &ProjectModule, broken: usize) -> MacroError {
+    MacroError {
+        kind: super::ErrorKind::Syntax,
+        file: m.name.clone(),
+        span: None,
+        message: format!(
+            "not parsed: {broken} modules of the project do not parse, the most left out before the rest is \
+             given up (docs/limits.md)"
+        ),
+        source_line: String::new(),
+        trace: Vec::new(),
+        output: Box::new(super::RunOutput::new("", crate::nc::Machine::Lathe)),
+    }
+}
+
+/// The public Functions of the standard modules of `program`, by lower-case name. Volatile:
+/// the body calls `Application.Volatile` (without `False`).
+fn callable_functions(program: &Program) -> std::collections::HashMap<Box<str>, Vec<Function>> {
+    let module = &program.module;
+    let lines: Vec<&str> = program.source.lines().collect();
     let mut starts: Vec<usize> = module.procs.iter().map(|p| p.span.line as usize).collect();
     starts.sort_unstable();
-    module
-        .procs
-        .iter()
-        .map(|p| {
-            if p.kind != ProcKind::Function || !p.public || p.span.line as usize > own_lines {
-                return None;
-            }
-            let first = p.span.line as usize;
-            let end = starts.iter().copied().find(|&s| s > first).unwrap_or(lines.len() + 1);
-            let body = lines.get(first.saturating_sub(1)..(end - 1).min(lines.len())).unwrap_or(&[]);
-            Some(body.iter().any(|l| marks_volatile(l)))
-        })
-        .collect()
+    let first: Rc<str> = program.first.as_str().into();
+    let mut functions: std::collections::HashMap<Box<str>, Vec<Function>> = Default::default();
+    for (proc, p) in module.procs.iter().enumerate() {
+        let part = module.parts.get(p.part);
+        if p.kind != ProcKind::Function || !p.public || part.is_some_and(|m| m.class) {
+            continue;
+        }
+        let line = p.span.line as usize;
+        let end = starts.get(starts.partition_point(|&s| s <= line)).copied().unwrap_or(lines.len() + 1);
+        let body = lines.get(line.saturating_sub(1)..(end - 1).min(lines.len())).unwrap_or(&[]);
+        let volatile = body.iter().any(|l| marks_volatile(l));
+        let name = part.map_or_else(|| Rc::clone(&first), |m| Rc::clone(&m.name));
+        functions.entry(p.name.to_ascii_lowercase().into()).or_default().push(Function {
+            module: name,
+            proc,
+            volatile,
+        });
+    }
+    functions
 }
 
 /// Whether a line of code says `Application.Volatile` (or `Application.Volatile True`).
