@@ -40,6 +40,7 @@ enum Kind {
     Chain,
     Grid,
     Fan,
+    Mean,
 }
 
 struct Bench {
@@ -55,7 +56,8 @@ impl Bench {
             "chain" => Kind::Chain,
             "grid" => Kind::Grid,
             "fan" => Kind::Fan,
-            _ => return Err(format!("unknown workbook kind in {name:?} (chain, grid, fan)")),
+            "mean" => Kind::Mean,
+            _ => return Err(format!("unknown workbook kind in {name:?} (chain, grid, fan, mean)")),
         };
         let n: u32 = n.parse().map_err(|_| format!("bad size in {name:?}"))?;
         if !(2..=1_000_000).contains(&n) {
@@ -109,6 +111,21 @@ impl Bench {
                     put(wb, r, 1, &text);
                     formulas += 1;
                 }
+                Kind::Mean => {
+                    // A = 1..N, and in B1 the mean of them all: the edit recomputes one
+                    // AVERAGE over N ordinary numbers, the mean's hot path.
+                    text.clear();
+                    push_u32(&mut text, r);
+                    put(wb, r, 0, &text);
+                    if r == self.n {
+                        text.clear();
+                        text.push_str("=AVERAGE(A1:A");
+                        push_u32(&mut text, r);
+                        text.push(')');
+                        put(wb, 1, 1, &text);
+                        formulas += 1;
+                    }
+                }
             }
         }
         formulas
@@ -140,6 +157,13 @@ impl Bench {
                 expect: n as f64 + 1f64.sin(),
                 expect_after: 2.0 * n as f64 + 2f64.sin(),
             },
+            Kind::Mean => Spec {
+                last: Pos::new(0, 1),
+                edit: Pos::new(0, 0),
+                edit_value: 2.0,
+                expect: (n as f64 + 1.0) / 2.0,
+                expect_after: (n as f64 + 1.0) / 2.0 + 1.0 / n as f64,
+            },
         }
     }
 
@@ -147,7 +171,7 @@ impl Bench {
     fn original_value(&self) -> f64 {
         match self.kind {
             Kind::Grid => self.n as f64,
-            Kind::Chain | Kind::Fan => 1.0,
+            Kind::Chain | Kind::Fan | Kind::Mean => 1.0,
         }
     }
 }
@@ -484,7 +508,7 @@ fn parse_args() -> Result<Args, String> {
             "-h" | "--help" => {
                 println!(
                     "ncsheet-bench [--sizes NAME,...] [--runs N] [--builds N] [--spec gen_workbooks.py | --no-spec]\n\
-                     NAME = chain-N | grid-N | fan-N (default: {})",
+                     NAME = chain-N | grid-N | fan-N | mean-N (default: {})",
                     DEFAULT_SIZES.join(",")
                 );
                 std::process::exit(0);
