@@ -1094,3 +1094,58 @@ fn expression_errors_name_line_and_column() {
     let fanuc = read::read("G21\nG0 X#1\nM30\n", Family::Fanuc, Some(Machine::Mill)).unwrap_err();
     assert!(fanuc.message.contains("Fanuc Macro B"), "{fanuc}");
 }
+
+/// LinuxCNC's O-codes as the control runs them: subroutines of the same file with their own
+/// #1–#30 and named parameters, values returned in #<_value>, while, do … while and repeat
+/// loops with break and continue, if/elseif/else. The moves are rs274's.
+#[test]
+fn o_code_programs_move_as_rs274_moves_them() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let programs = [
+        "G21 G90 G17\no<square> sub\n  G1 X[#1] Y[#2] F100\n  G1 X[#1 + #3]\n  G1 Y[#2 + #3]\n  G1 X#1\n  G1 Y#2\n\
+         #<side> = #3\no<square> endsub\no200 sub\n  o200 return [#1 * 2]\no200 endsub\n#<_n> = 0\nG0 Z5\n\
+         o100 while [#<_n> LT 3]\n  o<square> call [#<_n> * 10] [0] [5]\n  #<_n> = [#<_n> + 1]\no100 endwhile\n\
+         o101 repeat [2]\n  G0 Z[10 + #<_n>]\n  #<_n> = [#<_n> + 1]\no101 endrepeat\no102 do\n  #<_n> = [#<_n> - 1]\n\
+         o103 if [#<_n> EQ 3]\n    G0 Z15\n  o103 elseif [#<_n> LT 1]\n    o102 break\n  o103 else\n    G0 X[#<_n>] Y-1\n\
+         o103 endif\no102 while [#<_n> GT -5]\no200 call [21]\nG0 X#<_value> Y[EXISTS[#<side>]]\nM2\n",
+        "G21 G90 G17\n#1 = 7\no10 sub\n  #<depth> = [#1 + 1]\n  o11 if [#<depth> LT 4]\n    G1 X[#<depth> * 3] Z-#<depth> F50\n\
+         o10 call [#<depth>]\n  o11 endif\n  G0 Y#<depth>\no10 endsub\no10 call [0]\nG0 X#1\n#2 = 0\n\
+         o20 while [#2 LT 6]\n  #2 = [#2 + 1]\n  o21 if [[#2 MOD 2] EQ 0]\n    o20 continue\n  o21 endif\n  G0 X[#2 * 10]\n\
+         o20 endwhile\no30 repeat [5]\n  #2 = [#2 - 1]\n  o31 if [#2 LT 3]\n    G0 Z1\n  o31 endif\n  o32 if [#2 EQ 5]\n\
+         G0 Z2\n  o32 elseif [#2 GT 4]\n  G0 Z3\n  o32 endif\n  G0 Y[#2]\no30 endrepeat\no40 repeat [0]\n  G0 X999\no40 endrepeat\nM2\n",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, text) in programs.iter().enumerate() {
+        let path = dir.path().join(format!("o{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected program {i}:\n{e}\n{text}"));
+        let ours = our_moves(&read::read(text, Family::LinuxCnc, None).unwrap_or_else(|e| panic!("program {i}: {e}")));
+        assert!(theirs.len() > 10, "program {i} moves too little to show anything: {theirs:?}");
+        assert!(same_moves(&ours, &theirs), "program {i}:\nours   {ours:?}\nrs274 {theirs:?}\n{text}");
+    }
+}
+
+/// O-codes the reader cannot run as the control would are refused at their line: a call of a
+/// subroutine in another file, a loop that never ends, calls past the depth limit.
+#[test]
+fn o_codes_that_cannot_run_are_refused_at_their_line() {
+    let cases = [
+        ("G21\no<elsewhere> call [1]\nM2\n", 2, "not in this program"),
+        ("G21\no1 while [1]\nG0 X1\no1 endwhile\nM2\n", 4, "never ends"),
+        ("G21\no1 repeat [3]\no1 break\no1 endrepeat\nM2\n", 3, "only while and do loops"),
+        ("G21\no1 sub\no1 call\no1 endsub\no1 call\nM2\n", 3, "more than 50 deep"),
+        ("G21\no1 sub\no1 endsub\no1 sub\no1 endsub\nM2\n", 4, "defined twice"),
+        ("G21\no1 if [1]\nG0 X1\nM2\n", 2, "o1 if has no o1 endif after it"),
+        ("G21\no1 endif\nM2\n", 2, "o1 endif has no o1 if before it"),
+        ("G21\no1 do\no1 continue\no1 while [0]\nM2\n", 3, "do … while"),
+        ("G21\no1 sub\no1 endsub\no1 return\nM2\n", 4, "without a call"),
+    ];
+    for (text, line, message) in cases {
+        let e = read::read(text, Family::LinuxCnc, None).expect_err(text);
+        assert_eq!(e.line, line, "{text:?}: {e}");
+        assert!(e.message.contains(message), "{text:?}: {e}");
+    }
+}

@@ -44,10 +44,12 @@ fn nc(command: &str, name: &str, program: &str, extra: &[&str]) -> Run {
 const O_CODE_PROGRAM: &str = "G21 G17 G90\no100 sub\nG53 G00 X0 Y0 Z0\no100 endsub\no100 call\nM2\n";
 
 #[test]
-fn o_code_subroutines_are_refused_by_name_not_as_a_word_s() {
+fn o_code_subroutines_are_named_as_such_not_read_as_a_word_s() {
     // `o100 sub` was read as the word O100 and then a word S with no number ("the word S has
-    // no number after it"). ncsheet reads no O-code subroutines or loops: it says so, naming
-    // the line, the column and the code, for every command that reads a program.
+    // no number after it"). Read as linuxcnc the subroutine now runs, and what stops it is
+    // the block inside (G53, machine coordinates, which the reader does not take), at its own
+    // line; read as another dialect the O-code is named, with its line and column, for every
+    // command that reads a program.
     let svg = tempfile::tempdir().unwrap();
     let svg = svg.path().join("plot.svg");
     let commands: [(&str, Vec<&str>); 3] = [
@@ -60,19 +62,20 @@ fn o_code_subroutines_are_refused_by_name_not_as_a_word_s() {
             let run = nc(command, name, program, extra);
             assert_ne!(run.code, 0, "nc {command} {name}: {}", run.stdout);
             let said = &run.stderr;
-            assert!(said.contains("`o100 sub` is a LinuxCNC O-code"), "nc {command} {name}: {said}");
-            assert!(said.contains("line 2"), "nc {command} {name}: {said}");
+            assert!(said.contains("line 3, column 1: G53"), "nc {command} {name}: {said}");
             assert!(!said.contains("the word S"), "nc {command} {name}: {said}");
+            let mut iso = extra.clone();
+            iso.extend(["--dialect", "iso"]);
+            let run = nc(command, name, program, &iso);
+            assert!(run.stderr.contains("line 2, column 1: `o100 sub` is a LinuxCNC O-code"), "{}", run.stderr);
         }
     }
-    // A named subroutine (`o<name>`) and a loop are refused the same way.
-    for (code, program) in [
-        ("o<pocket> call", "G21 G90\no<pocket> call [2]\nM2\n"),
-        ("O101 while", "G21 G90\nO101 while [1 LT 3]\nO101 endwhile\nM2\n"),
-    ] {
-        let run = nc("check", "loop.ngc", program, &["--dialect", "linuxcnc"]);
-        assert!(run.stderr.contains(&format!("`{code}` is a LinuxCNC O-code")), "{code}: {}", run.stderr);
-    }
+    // A named subroutine the file does not hold is refused by name; a loop read as another
+    // dialect is named as LinuxCNC's.
+    let run = nc("check", "loop.ngc", "G21 G90\no<pocket> call [2]\nM2\n", &["--dialect", "linuxcnc"]);
+    assert!(run.stderr.contains("o<pocket> call: the subroutine is not in this program"), "{}", run.stderr);
+    let run = nc("check", "loop.nc", "G21 G90\nO101 while [1 LT 3]\nO101 endwhile\nM2\n", &["--dialect", "iso"]);
+    assert!(run.stderr.contains("`O101 while` is a LinuxCNC O-code"), "{}", run.stderr);
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! (G90/91; a Fanuc lathe refuses G90-G94, cycles in system A), feed mode (G94/95, Fanuc lathe G98/99), diameter mode (LinuxCNC G7/G8,
 //! Sinumerik DIAMON/DIAMOF; Fanuc and NC31 lathes are diametral), arcs by I/J/K, R or
 //! Sinumerik CR=, F, S, T, M, Sinumerik LIMS= and MSG. LinuxCNC's parameters and expressions are read in
-//! [`parameters`]. Heidenhain plain language is read in
+//! [`parameters`], its O-codes (subroutines, conditions, loops) run in [`flow`]. Heidenhain plain language is read in
 //! [`heidenhain`]. A word the reader does not know is an error naming its line and column,
 //! never skipped.
 
@@ -16,6 +16,7 @@ use super::program::{
 };
 
 pub mod detect;
+mod flow;
 pub mod heidenhain;
 mod nc31;
 pub mod parameters;
@@ -172,12 +173,19 @@ pub fn read_with_lines(
     let mut ended = false;
     let mut parameters = parameters::Parameters::default();
     // NC31 runs its subprograms, parameters and jumps ([`nc31`]): the blocks it executes.
-    let sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
+    let mut sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
         Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line)))
     } else {
         Box::new(text.lines().enumerate().map(|(i, l)| (std::borrow::Cow::Borrowed(l), i + 1)))
     };
-    for (full, line) in sources {
+    // LinuxCNC runs its O-codes (subroutines, conditions, loops) with the parameters as they stand.
+    let mut flow = if family == Family::LinuxCnc { Some(flow::Flow::new(text)?) } else { None };
+    loop {
+        let next = match &mut flow {
+            Some(flow) => flow.next_line(&mut parameters)?.map(|(l, i)| (std::borrow::Cow::Borrowed(l), i + 1)),
+            None => sources.next(),
+        };
+        let Some((full, line)) = next else { break };
         for raw in blocks_of_line(&full, family) {
             let raw = raw.as_str();
             let at = |column: usize, message: String| ReadError { line, column, message };
@@ -435,8 +443,8 @@ fn o_word_keyword(chars: &[char], from: usize) -> Option<(&'static str, usize)> 
 fn o_word_refused(code: &[char], keyword: &str) -> String {
     let code = quoted_briefly(&code.iter().collect::<String>());
     format!(
-        "`{code}` is a LinuxCNC O-code (the `{keyword}` of a subroutine, condition or loop): ncsheet does not read \
-         O-word subroutines or control flow; write the program out block by block"
+        "`{code}` is a LinuxCNC O-code (the `{keyword}` of a subroutine, condition or loop): it begins a line of \
+         its own, and only a program read as linuxcnc runs it"
     )
 }
 

@@ -27,7 +27,7 @@ const MAX_JUMPS: usize = 1_000_000;
 /// Blocks run beyond those written before a program is refused: calls within calls
 /// multiply (twelve calls a level, seven levels deep, are 35 million blocks from 100 lines)
 /// where the jump and depth limits see nothing amiss.
-const MAX_BLOCKS_RUN: usize = 1_000_000;
+pub(super) const MAX_BLOCKS_RUN: usize = 1_000_000;
 /// Decimals a parameter's value is written with in a word: the NC31's 0.001 mm step.
 const WORD_DECIMALS: usize = 3;
 

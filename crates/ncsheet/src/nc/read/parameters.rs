@@ -66,7 +66,41 @@ pub struct Setting {
     pub value: f64,
 }
 
+/// What a subroutine call hides of its caller's parameters: #1–#30 and the named ones not
+/// starting with `_` (LinuxCNC's locals), given back when it returns.
+pub struct Hidden(Vec<(Name, f64)>);
+
+/// The numbered parameters a subroutine call sets from its values.
+const CALL_VALUES: u32 = 30;
+
+fn is_local(name: &Name) -> bool {
+    match name {
+        Name::Numbered(n) => *n <= CALL_VALUES,
+        Name::Named(s) => !s.starts_with('_'),
+    }
+}
+
 impl Parameters {
+    /// Enters a subroutine called with `values`: the caller's locals are hidden, #1… hold the
+    /// values.
+    pub fn enter_call(&mut self, values: &[f64]) -> Hidden {
+        let locals: Vec<Name> = self.values.keys().filter(|n| is_local(n)).cloned().collect();
+        let hidden = locals.into_iter().filter_map(|n| self.values.remove_entry(&n)).collect();
+        for (n, v) in (1..).zip(values) {
+            self.values.insert(Name::Numbered(n), *v);
+        }
+        Hidden(hidden)
+    }
+
+    /// Leaves a subroutine: its locals go, the caller's come back, and a returned value is
+    /// `#<_value>` (`#<_value_returned>` says whether one was).
+    pub fn leave_call(&mut self, hidden: Hidden, returned: Option<f64>) {
+        self.values.retain(|n, _| !is_local(n));
+        self.values.extend(hidden.0);
+        self.values.insert(Name::Named("_value".into()), returned.unwrap_or(0.0));
+        self.values.insert(Name::Named("_value_returned".into()), if returned.is_some() { 1.0 } else { 0.0 });
+    }
+
     /// Applies a line's settings, in the order written.
     pub fn apply(&mut self, settings: Vec<Setting>) {
         for s in settings {
