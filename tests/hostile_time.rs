@@ -642,6 +642,15 @@ fn regular_expressions_past_the_work_limit_are_num_naming_it() {
     set(&mut wb, "A5", r#"=REGEXTEST(REPT("a",30000),REPT("(a?)",1000)&REPT("a",1000))"#);
     assert_eq!(get(&wb, "A5"), Value::Error(XlError::Num));
     assert!(mentions(&problems_at(&wb, "A5"), &["1000 capture groups", "64 MiB"]), "{:?}", problems_at(&wb, "A5"));
+    // XLOOKUP's and XMATCH's match mode 3 search with the same limits, their searches' work
+    // added up: the chain over one 30,000-byte item is past it, over a 1,000-byte item it
+    // matches the item.
+    set(&mut wb, "B1", &format!(r#"=XMATCH({chain},{{"b";"x"}}&REPT("a",30000),3)"#));
+    assert_eq!(get(&wb, "B1"), Value::Error(XlError::Num));
+    set(&mut wb, "B2", &format!(r#"=XMATCH({chain},{{"b";"x"}}&REPT("a",1000),3)"#));
+    assert_eq!(get(&wb, "B2"), n(1.0));
+    set(&mut wb, "B3", &format!(r#"=XLOOKUP({chain},REPT("a",30000),1,,3)"#));
+    assert_eq!(get(&wb, "B3"), Value::Error(XlError::Num));
 }
 
 /// Ordinary patterns on the longest texts a cell holds still answer: a Unicode class counts

@@ -9,6 +9,7 @@ use crate::eval::coerce::{compare, compare_text, to_bool, to_number, to_text};
 use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{as_block, lift_values, number_or, ArgSet, Ctx, FnSpec, Operand, Searched};
 use crate::eval::functions::lookup::key_index::{worth_indexing, ExactIndex, OrderIndex};
+use crate::eval::regex_limits;
 use crate::eval::value::{Array, Value, XlError, XlResult};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId};
@@ -771,11 +772,34 @@ impl XMode {
 /// Match mode 3: the first (or last) item whose text the lookup value, read as a regular
 /// expression as REGEXTEST reads it (case counts, a match anywhere), matches; blanks and
 /// errors take no part. A pattern that does not compile is `#VALUE!`.
+/// XLOOKUP's and XMATCH's match mode 3: the first (or last) item the pattern matches. The
+/// pattern and the work of all the searches together are bounded as REGEXTEST's are
+/// (`regex_limits`): past them `#NUM!`, an unreadable pattern `#VALUE!`.
 fn regex_position(key: &Value, items: &[Value], reverse: bool) -> XlResult<Option<usize>> {
-    let pattern = regex::Regex::new(&to_text(key)?).map_err(|_| XlError::Value)?;
-    let matches =
-        |v: &Value| !matches!(v, Value::Blank | Value::Error(_)) && to_text(v).is_ok_and(|t| pattern.is_match(&t));
-    Ok(if reverse { items.iter().rposition(matches) } else { items.iter().position(matches) })
+    let pattern = regex_limits::compile(&to_text(key)?, false).map_err(|e| match e {
+        regex_limits::PatternError::Syntax(_) => XlError::Value,
+        _ => XlError::Num,
+    })?;
+    let mut work = 0u64;
+    let mut matches = |v: &Value| -> XlResult<bool> {
+        if matches!(v, Value::Blank | Value::Error(_)) {
+            return Ok(false);
+        }
+        let Ok(text) = to_text(v) else { return Ok(false) };
+        work = work.saturating_add(pattern.work(&text));
+        if work > regex_limits::MAX_MATCH_WORK {
+            return Err(XlError::Num);
+        }
+        Ok(pattern.regex.is_match(&text))
+    };
+    let order: Box<dyn Iterator<Item = (usize, &Value)>> =
+        if reverse { Box::new(items.iter().enumerate().rev()) } else { Box::new(items.iter().enumerate()) };
+    for (i, v) in order {
+        if matches(v)? {
+            return Ok(Some(i));
+        }
+    }
+    Ok(None)
 }
 
 fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
