@@ -331,8 +331,9 @@ struct Line {
 
 /// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
 /// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`];
-/// the NC31 has no comments), Sinumerik's `MSG("…")`. LinuxCNC's values may be expressions
-/// and parameters ([`parameters`]), read with the values `params` holds before this line.
+/// the NC31 has no comments), Sinumerik's `MSG("…")`.
+/// LinuxCNC's values may be expressions and parameters ([`parameters`]), read with the
+/// values `params` holds before this line.
 fn tokens(raw: &str, family: Family, params: &parameters::Parameters) -> Result<Line, Fail> {
     let chars: Vec<char> = raw.chars().collect();
     let mut line = Line::default();
