@@ -37,8 +37,8 @@ struct Repeat {
 pub struct Flow<'t> {
     lines: Vec<&'t str>,
     codes: Vec<Option<OCode>>,
-    /// Which `while` lines close a `do` rather than begin a loop.
-    do_tails: Vec<bool>,
+    /// Where each O-code line's block goes on, found once before anything runs.
+    jumps: Vec<Jumps>,
     subs: HashMap<String, usize>,
     next: usize,
     calls: Vec<Call>,
@@ -65,9 +65,9 @@ impl<'t> Flow<'t> {
             }
             codes.push(code);
         }
-        let do_tails = do_tails(&codes)?;
+        let jumps = structure(&codes)?;
         let budget = lines.len().saturating_add(super::nc31::MAX_BLOCKS_RUN);
-        Ok(Flow { lines, codes, do_tails, subs, next: 0, calls: Vec::new(), repeats: Vec::new(), budget })
+        Ok(Flow { lines, codes, jumps, subs, next: 0, calls: Vec::new(), repeats: Vec::new(), budget })
     }
 
     /// The next line the control executes and its 0-based number, running the O-codes before
@@ -102,19 +102,28 @@ impl<'t> Flow<'t> {
     }
 
     fn run(&mut self, at: usize, code: &OCode, params: &mut Parameters) -> Result<(), ReadError> {
+        let jumps = self.jumps[at];
         match code.keyword {
-            "sub" => self.next = self.end_of(at, code, &["endsub"])? + 1,
+            // A definition met in the flow, or a branch's end reached from a branch taken.
+            "sub" | "elseif" | "else" => self.next = jumps.end + 1,
             "endsub" | "return" => self.leave(at, code, params)?,
             "call" => self.call(at, code, params)?,
             "if" => self.branch(at, code, params)?,
-            "elseif" | "else" => self.next = self.end_of(at, code, &["endif"])? + 1,
             "endif" | "do" => {}
-            "while" => self.test_while(at, code, params)?,
-            "endwhile" => self.next = self.head_of(at, code, &["while"])?,
+            "while" if jumps.do_tail => {
+                if self.value(at, code, params)? != 0.0 {
+                    self.next = jumps.head + 1;
+                }
+            }
+            "while" => {
+                if self.value(at, code, params)? == 0.0 {
+                    self.next = jumps.end + 1;
+                }
+            }
+            "endwhile" => self.next = jumps.head,
             "repeat" => self.start_repeat(at, code, params)?,
             "endrepeat" => self.end_repeat(at, code)?,
-            "break" => self.break_loop(at, code)?,
-            _ => self.continue_loop(at, code)?,
+            _ => self.leave_or_restart_loop(at, code)?,
         }
         Ok(())
     }
@@ -127,44 +136,7 @@ impl<'t> Flow<'t> {
         Ok(v)
     }
 
-    /// The first line after `at` with the same label and one of `keywords`, on the same level
-    /// of nesting of that label.
-    fn end_of(&self, at: usize, code: &OCode, keywords: &[&str]) -> Result<usize, ReadError> {
-        let mut depth = 0usize;
-        for i in at + 1..self.lines.len() {
-            let Some(c) = &self.codes[i] else { continue };
-            if c.label != code.label {
-                continue;
-            }
-            if opens(c.keyword, self.do_tails[i]) {
-                depth += 1;
-            } else if depth > 0 && closes(c.keyword) {
-                depth -= 1;
-            } else if depth == 0 && keywords.contains(&c.keyword) {
-                return Ok(i);
-            }
-        }
-        Err(error(
-            at,
-            1,
-            format!("o{} {} has no o{} {} after it", code.label, code.keyword, code.label, keywords.join("/")),
-        ))
-    }
-
-    /// The last line before `at` with the same label and one of `keywords`.
-    fn head_of(&self, at: usize, code: &OCode, keywords: &[&str]) -> Result<usize, ReadError> {
-        (0..at)
-            .rev()
-            .find(|&i| self.codes[i].as_ref().is_some_and(|c| c.label == code.label && keywords.contains(&c.keyword)))
-            .ok_or_else(|| {
-                error(
-                    at,
-                    1,
-                    format!("o{} {} has no o{} {} before it", code.label, code.keyword, code.label, keywords[0]),
-                )
-            })
-    }
-
+    /// An `if` and its `elseif`s: the first branch whose condition holds runs, or the `else`.
     fn branch(&mut self, at: usize, code: &OCode, params: &Parameters) -> Result<(), ReadError> {
         let mut test = at;
         let mut test_code = code.clone();
@@ -173,39 +145,22 @@ impl<'t> Flow<'t> {
                 self.next = test + 1;
                 return Ok(());
             }
-            let other = self.end_of(test, &test_code, &["elseif", "else", "endif"])?;
+            let other = self.jumps[test].next_branch;
             let other_code = self.codes[other].clone().expect("an O-code");
-            match other_code.keyword {
-                "elseif" => {
-                    self.charge(other)?;
-                    test = other;
-                    test_code = other_code;
-                }
-                _ => {
-                    self.next = other + 1;
-                    return Ok(());
-                }
+            if other_code.keyword != "elseif" {
+                self.next = other + 1;
+                return Ok(());
             }
+            self.charge(other)?;
+            test = other;
+            test_code = other_code;
         }
-    }
-
-    /// A `while`: the head of a `while … endwhile`, or the tail of a `do … while`.
-    fn test_while(&mut self, at: usize, code: &OCode, params: &Parameters) -> Result<(), ReadError> {
-        let holds = self.value(at, code, params)? != 0.0;
-        if self.do_tails[at] {
-            if holds {
-                self.next = self.head_of(at, code, &["do"])? + 1;
-            }
-        } else if !holds {
-            self.next = self.end_of(at, code, &["endwhile"])? + 1;
-        }
-        Ok(())
     }
 
     fn start_repeat(&mut self, at: usize, code: &OCode, params: &Parameters) -> Result<(), ReadError> {
         let n = self.value(at, code, params)?;
         if n < 1.0 {
-            self.next = self.end_of(at, code, &["endrepeat"])? + 1;
+            self.next = self.jumps[at].end + 1;
             return Ok(());
         }
         self.repeats.push(Repeat { label: code.label.clone(), left: n as u64 - 1 });
@@ -213,7 +168,6 @@ impl<'t> Flow<'t> {
     }
 
     fn end_repeat(&mut self, at: usize, code: &OCode) -> Result<(), ReadError> {
-        let head = self.head_of(at, code, &["repeat"])?;
         // A loop left by a jump (a break of an outer loop, a return) leaves its count behind.
         let Some(own) = self.repeats.iter().rposition(|r| r.label == code.label) else {
             return Err(error(at, 1, format!("o{} endrepeat is reached outside its repeat", code.label)));
@@ -222,57 +176,38 @@ impl<'t> Flow<'t> {
         let r = self.repeats.last_mut().expect("the loop's count");
         if r.left > 0 {
             r.left -= 1;
-            self.next = head + 1;
+            self.next = self.jumps[at].head + 1;
         } else {
             self.repeats.pop();
         }
         Ok(())
     }
 
-    /// The loop of `code`'s label around `at`: its first line and its closing line.
-    fn enclosing_loop(&self, at: usize, code: &OCode) -> Result<(usize, usize), ReadError> {
-        let head = self.head_of(at, code, &["while", "do", "repeat"])?;
-        let head_code = self.codes[head].clone().expect("an O-code");
-        let end = match head_code.keyword {
-            "while" => self.end_of(head, &head_code, &["endwhile"])?,
-            "do" => self.end_of(head, &head_code, &["while"])?,
-            _ => {
-                return Err(error(
-                    at,
-                    1,
-                    format!(
-                        "o{} {} inside a repeat loop: LinuxCNC breaks and continues only while and do loops",
-                        code.label, code.keyword
-                    ),
-                ))
+    /// `break` or `continue` of the loop of their label around them: LinuxCNC 2.9 runs them in
+    /// while loops, and `break` in do loops.
+    fn leave_or_restart_loop(&mut self, at: usize, code: &OCode) -> Result<(), ReadError> {
+        let head = self.jumps[at].head;
+        let refused = |why: &str| Err(error(at, 1, format!("o{} {} {why}", code.label, code.keyword)));
+        if head == NONE {
+            return refused(&format!("is outside a loop o{}", code.label));
+        }
+        match (self.codes[head].as_ref().map(|c| c.keyword), code.keyword) {
+            (Some("repeat"), _) => {
+                refused("inside a repeat loop: LinuxCNC breaks and continues only while and do loops")
             }
-        };
-        Ok((head, end))
-    }
-
-    fn break_loop(&mut self, at: usize, code: &OCode) -> Result<(), ReadError> {
-        let (_, end) = self.enclosing_loop(at, code)?;
-        self.next = end + 1;
-        Ok(())
-    }
-
-    fn continue_loop(&mut self, at: usize, code: &OCode) -> Result<(), ReadError> {
-        let (head, _) = self.enclosing_loop(at, code)?;
-        match self.codes[head].as_ref().map(|c| c.keyword) {
-            Some("while") => self.next = head,
+            (Some("do"), "continue") => refused(
+                "in a do … while loop: LinuxCNC 2.9 leaves the loop there instead of testing its condition again; \
+                 write the loop as while … endwhile",
+            ),
+            (_, "continue") => {
+                self.next = head;
+                Ok(())
+            }
             _ => {
-                return Err(error(
-                    at,
-                    1,
-                    format!(
-                        "o{} continue in a do … while loop: LinuxCNC 2.9 leaves the loop there instead of testing \
-                         its condition again; write the loop as while … endwhile",
-                        code.label
-                    ),
-                ))
+                self.next = self.jumps[head].end + 1;
+                Ok(())
             }
         }
-        Ok(())
     }
 
     fn call(&mut self, at: usize, code: &OCode, params: &mut Parameters) -> Result<(), ReadError> {
@@ -333,21 +268,30 @@ impl<'t> Flow<'t> {
     }
 }
 
-/// Whether `keyword` opens a block of its label that a later line closes (a `while` that is
-/// a `do`'s tail closes one).
-fn opens(keyword: &str, do_tail: bool) -> bool {
-    match keyword {
-        "if" | "sub" | "do" | "repeat" => true,
-        "while" => !do_tail,
-        _ => false,
-    }
+/// No line: a jump an O-code does not have.
+const NONE: usize = usize::MAX;
+
+/// Where an O-code line's block goes on: its closing line (`end`: a `sub`'s `endsub`, a
+/// branch's `endif`, a loop's last line), its opening line (`head`: a loop's first line for
+/// its end, `break` and `continue`), an `if`/`elseif`'s next branch, and whether a `while`
+/// closes a `do`.
+#[derive(Clone, Copy)]
+struct Jumps {
+    end: usize,
+    head: usize,
+    next_branch: usize,
+    do_tail: bool,
 }
 
-fn closes(keyword: &str) -> bool {
-    matches!(keyword, "endif" | "endsub" | "endwhile" | "endrepeat")
+/// An open block of one label while the lines are followed: its keyword, first line and
+/// (for an `if`) its branches so far.
+struct Open {
+    keyword: &'static str,
+    line: usize,
+    branches: Vec<usize>,
 }
 
-/// The block an O-code closes (`endif` an `if`, a `do`'s tail `while` its `do`).
+/// The block an O-code closes (`endif` an `if`, `endwhile` a `while`).
 fn opener_of(keyword: &str) -> Option<&'static str> {
     Some(match keyword {
         "endif" => "if",
@@ -358,36 +302,52 @@ fn opener_of(keyword: &str) -> Option<&'static str> {
     })
 }
 
-/// Checks that each label's blocks open and close in order and says, for each line, whether
-/// it is a `while` closing a `do`: a block left open or closed twice is refused at its line
-/// before anything runs.
-fn do_tails(codes: &[Option<OCode>]) -> Result<Vec<bool>, ReadError> {
-    let mut open: HashMap<&str, Vec<(&str, usize)>> = HashMap::new();
-    let mut tails = vec![false; codes.len()];
+/// Follows each label's blocks as they open and close, once, and gives every O-code line its
+/// [`Jumps`], so that running the program never searches the text; a block left open or
+/// closed twice is refused at its line before anything runs.
+fn structure(codes: &[Option<OCode>]) -> Result<Vec<Jumps>, ReadError> {
+    let mut open: HashMap<&str, Vec<Open>> = HashMap::new();
+    let mut jumps = vec![Jumps { end: NONE, head: NONE, next_branch: NONE, do_tail: false }; codes.len()];
     for (i, code) in codes.iter().enumerate() {
         let Some(c) = code else { continue };
         let stack = open.entry(c.label.as_str()).or_default();
-        let top = stack.last().map(|(k, _)| *k);
+        let top = stack.last().map(|o| o.keyword);
         match c.keyword {
             "while" if top == Some("do") => {
-                stack.pop();
-                tails[i] = true;
+                let head = stack.pop().expect("the do").line;
+                jumps[i].do_tail = true;
+                jumps[i].head = head;
+                jumps[head].end = i;
             }
-            "if" | "sub" | "do" | "repeat" | "while" => stack.push((c.keyword, i)),
-            "elseif" | "else" if top != Some("if") => {
-                return Err(error(i, 1, format!("o{} {} has no o{} if before it", c.label, c.keyword, c.label)))
+            "if" | "sub" | "do" | "repeat" | "while" => {
+                stack.push(Open { keyword: c.keyword, line: i, branches: vec![i] })
+            }
+            "elseif" | "else" => {
+                let Some(o) = stack.last_mut().filter(|o| o.keyword == "if") else {
+                    return Err(error(i, 1, format!("o{} {} has no o{} if before it", c.label, c.keyword, c.label)));
+                };
+                jumps[*o.branches.last().expect("the if")].next_branch = i;
+                o.branches.push(i);
+            }
+            "break" | "continue" => {
+                let around = stack.iter().rev().find(|o| matches!(o.keyword, "while" | "do" | "repeat"));
+                jumps[i].head = around.map_or(NONE, |o| o.line);
             }
             k => {
-                if let Some(opener) = opener_of(k) {
-                    if top != Some(opener) {
-                        return Err(error(i, 1, format!("o{} {k} has no o{} {opener} before it", c.label, c.label)));
-                    }
-                    stack.pop();
+                let Some(opener) = opener_of(k) else { continue };
+                if top != Some(opener) {
+                    return Err(error(i, 1, format!("o{} {k} has no o{} {opener} before it", c.label, c.label)));
+                }
+                let o = stack.pop().expect("the opener");
+                jumps[i].head = o.line;
+                jumps[*o.branches.last().expect("the opener")].next_branch = i;
+                for b in o.branches {
+                    jumps[b].end = i;
                 }
             }
         }
     }
-    let left_open = open.iter().flat_map(|(label, stack)| stack.iter().map(move |(k, i)| (*i, *label, *k))).min();
+    let left_open = open.iter().flat_map(|(label, stack)| stack.iter().map(move |o| (o.line, *label, o.keyword))).min();
     if let Some((i, label, keyword)) = left_open {
         let closer = match keyword {
             "do" => "while",
@@ -396,7 +356,7 @@ fn do_tails(codes: &[Option<OCode>]) -> Result<Vec<bool>, ReadError> {
         };
         return Err(error(i, 1, format!("o{label} {keyword} has no o{label} {closer} after it")));
     }
-    Ok(tails)
+    Ok(jumps)
 }
 
 /// Nothing but a comment may follow an O-code's values.
