@@ -146,3 +146,24 @@ fn a_western_module_runs_without_a_code_page() {
     let ran = ncsheet(&["run", text(&book), text(&bas)]);
     assert!(ran.code == 0 && ran.stderr.lines().any(|l| l == "Größe in ° 10  176 "), "{}", ran.stderr);
 }
+
+/// A UTF-8 module with a character no ANSI Western byte stands for (psychrolib's comments write
+/// "kg_H₂O"; U+2082 SUBSCRIPT TWO is not in Microsoft's Windows-1252 table, where Python's
+/// `'₂'.encode('cp1252')` fails) cannot go into a project in 1252: the refusal names the
+/// character and its line and column in the file, where it named only the module.
+#[test]
+fn a_character_the_projects_code_page_lacks_is_refused_at_its_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let bas = dir.path().join("psy.bas");
+    std::fs::write(&bas, "Function Ratio()\n' Humidity in kg_H₂O per kg\n    Ratio = 1\nEnd Function\n").unwrap();
+    let book = dir.path().join("book.csv");
+    std::fs::write(&book, "x\n").unwrap();
+    let out = dir.path().join("out.xlsm");
+    let done = ncsheet(&["macros", text(&book), "--import", text(&bas), "-o", text(&out)]);
+    assert!(
+        done.code != 0
+            && done.stderr.contains("psy: line 2, column 19: '₂' (U+2082) is a character code page 1252 cannot write"),
+        "{}",
+        done.stderr
+    );
+}

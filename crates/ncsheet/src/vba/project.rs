@@ -689,7 +689,7 @@ pub fn build_project_in(modules: &[NewModule], seed: u8, code_page: u16) -> Resu
         let source = with_name_attribute(&m.source, &m.name);
         let (bytes, _, unmappable) = encoding.encode(&source);
         if unmappable {
-            return Err(error(&m.name, format!("holds characters code page {code_page} cannot write")));
+            return Err(error(&m.name, unwritable_text(&m.source, encoding, code_page)));
         }
         encoded.push(bytes.into_owned());
     }
@@ -707,6 +707,22 @@ pub fn build_project_in(modules: &[NewModule], seed: u8, code_page: u16) -> Resu
     }
     cfb.flush().map_err(|e| error("vbaProject.bin", e))?;
     Ok(cfb.into_inner().into_inner())
+}
+
+/// Why a module's text cannot be written in the project's code page: the first character it
+/// has no byte for, at its line and column in the module's file (a `₂` in a comment of a UTF-8
+/// module, which the VBA editor would import as three Western letters), so the user can find it.
+pub(super) fn unwritable_text(source: &str, encoding: &'static encoding_rs::Encoding, code_page: u16) -> String {
+    let mut utf8 = [0u8; 4];
+    for (line, text) in source.lines().enumerate() {
+        for (column, c) in text.chars().enumerate() {
+            if encoding.encode(c.encode_utf8(&mut utf8)).2 {
+                let at = format!("line {}, column {}", line + 1, column + 1);
+                return format!("{at}: {c:?} (U+{:04X}) is a character code page {code_page} cannot write", c as u32);
+            }
+        }
+    }
+    format!("holds characters code page {code_page} cannot write")
 }
 
 pub(super) fn with_name_attribute(source: &str, name: &str) -> String {

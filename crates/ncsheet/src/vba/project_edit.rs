@@ -12,7 +12,7 @@ use std::io::{Cursor, Write};
 use super::ovba;
 use super::project::{
     id, open_parts, property, push_module_records, push_record, read_protection, read_stream, unprotected_lines,
-    with_name_attribute, DirModule, ModuleKind, NewModule, Parts, ProjectError,
+    unwritable_text, with_name_attribute, DirModule, ModuleKind, NewModule, Parts, ProjectError,
 };
 
 /// What to do with a new module whose name the project already has.
@@ -73,9 +73,8 @@ pub fn add_modules(
     let mut created: Vec<(String, Vec<u8>)> = Vec::new();
     for new in modules {
         check_name(&parts, new, &added, on_existing)?;
-        let text = encode(&with_name_attribute(&new.source, &new.name), encoding).ok_or_else(|| {
-            error(&new.name, format!("holds characters code page {} cannot write", parts.listing.code_page))
-        })?;
+        let text = encode(&with_name_attribute(&new.source, &new.name), encoding)
+            .ok_or_else(|| error(&new.name, unwritable_text(&new.source, encoding, parts.listing.code_page)))?;
         match existing(&parts.listing.modules, &new.name) {
             Some(old) => {
                 let path = parts.stream_path(old);
