@@ -172,3 +172,330 @@ fn xsteam_saturation_functions_compute_in_cells_as_pyxsteam_does() {
     }
     assert_eq!(wb.value(0, parse_cell("A3").unwrap()), Value::Error(XlError::Value));
 }
+
+/// PsychroLib 2.0.0's VBA module (https://github.com/psychrometrics/psychrolib, src/vba/
+/// psychrolib.bas; "Copyright (c) 2018 D. Thevenard and D. Meyer for the current library
+/// implementation", "Copyright (c) 2017 ASHRAE Handbook — Fundamentals for ASHRAE equations and
+/// coefficients", "Licensed under the MIT License"): the dew-point and wet-bulb functions and
+/// what they call, their code as the module has it (comment lines left out), with the line
+/// the module asks its user to uncomment, `Const PSYCHROLIB_UNITS = UnitSystem.SI`. It uses an
+/// Enum's member as a Const, `-100.` and `0#` literals, a Private `Max` called as `max`, a
+/// `Do … Loop While` Newton iteration, a `While … Wend` bisection and `Else:`.
+const PSYCHROLIB_EXCERPT: &str = r#"Enum UnitSystem
+  IP = 1
+  SI = 2
+End Enum
+Const PSYCHROLIB_UNITS = UnitSystem.SI
+Private Const R_DA_IP = 53.35               ' Universal gas constant for dry air (IP version) in ft lbf/lb_DryAir/R
+Private Const R_DA_SI = 287.042             ' Universal gas constant for dry air (SI version) in J/kg_DryAir/K
+Private Const MAX_ITER_COUNT = 100         ' Maximum number of iterations before exiting while loops.
+Private Const MIN_HUM_RATIO = 1e-7          ' Minimum acceptable humidity ratio used/returned by any functions.
+Private Function isIP() As Variant
+  If (PSYCHROLIB_UNITS = UnitSystem.IP) Then
+    isIP = True
+  ElseIf (PSYCHROLIB_UNITS = UnitSystem.SI) Then
+    isIP = False
+  Else
+    MsgBox ("The system of units has not been defined.")
+    isIP = CVErr(xlErrNA)
+  End If
+End Function
+Private Function GetTol() As Variant
+  If (PSYCHROLIB_UNITS = UnitSystem.IP) Then
+    GetTol = 0.001 * 9 / 5
+  Else
+    GetTol = 0.001
+  End If
+End Function
+Private Sub MyMsgBox(ByVal ErrMsg As String)
+End Sub
+Private Function Min(ByVal Num1 As Variant, ByVal Num2 As Variant) As Variant
+  If (Num1 <= Num2) Then
+    Min = Num1
+  Else
+    Min = Num2
+  End If
+End Function
+Private Function Max(ByVal Num1 As Variant, ByVal Num2 As Variant) As Variant
+  If (Num1 >= Num2) Then
+    Max = Num1
+  Else
+    Max = Num2
+  End If
+End Function
+Function GetTRankineFromTFahrenheit(ByVal T_Fahrenheit As Variant) As Variant
+  On Error GoTo ErrHandler
+  GetTRankineFromTFahrenheit = (T_Fahrenheit + 459.67)
+  Exit Function
+ErrHandler:
+  GetTRankineFromTFahrenheit = CVErr(xlErrNA)
+End Function
+Function GetTKelvinFromTCelsius(ByVal T_Celsius As Variant) As Variant
+  On Error GoTo ErrHandler
+  GetTKelvinFromTCelsius = (T_Celsius + 273.15)
+  Exit Function
+ErrHandler:
+  GetTKelvinFromTCelsius = CVErr(xlErrNA)
+End Function
+Private Function dLnPws_(TDryBulb As Variant) As Variant
+  Dim T As Variant
+  If (isIP()) Then
+    T = GetTRankineFromTFahrenheit(TDryBulb)
+    If (TDryBulb < 32#) Then
+      dLnPws_ = 10214.165 / T ^ 2 - 0.0053765794 + 2 * 0.00000019202377 * T _
+             + 2 * 3.5575832E-10 * T ^ 2 - 4 * 9.0344688E-14 * T ^ 3 + 4.1635019 / T
+    Else
+      dLnPws_ = 10440.397 / T ^ 2 - 0.027022355 + 2 * 0.00001289036 * T _
+             - 3 * 2.4780681E-09 * T ^ 2 + 6.5459673 / T
+    End If
+  Else
+    T = GetTKelvinFromTCelsius(TDryBulb)
+    If (TDryBulb < 0#) Then
+      dLnPws_ = 5674.5359 / T ^ 2 - 0.009677843 + 2 * 0.00000062215701 * T _
+             + 3 * 2.0747825E-09 * T ^ 2 - 4 * 9.484024E-13 * T ^ 3 + 4.1635019 / T
+    Else
+      dLnPws_ = 5800.2206 / T ^ 2 - 0.048640239 + 2 * 0.000041764768 * T _
+             - 3 * 0.000000014452093 * T ^ 2 + 6.5459673 / T
+    End If
+  End If
+End Function
+Function GetTDewPointFromVapPres(ByVal TDryBulb As Variant, ByVal VapPres As Variant) As Variant
+  Dim BOUNDS(2) As Variant
+  Dim T_WATER_FREEZE As Variant, T_WATER_FREEZE_LOW As Variant, T_WATER_FREEZE_HIGH As Variant
+  Dim PWS_FREEZE_LOW As Variant, PWS_FREEZE_HIGH As Variant
+  Dim PSYCHROLIB_TOLERANCE As Variant
+  If (isIP()) Then
+    BOUNDS(1) = -148.
+    BOUNDS(2) = 392.
+    T_WATER_FREEZE = 32.
+  Else
+    BOUNDS(1) = -100.
+    BOUNDS(2) = 200.
+    T_WATER_FREEZE = 0.
+  End If
+  On Error GoTo ErrHandler
+  If ((VapPres < GetSatVapPres(BOUNDS(1))) Or (VapPres > GetSatVapPres(BOUNDS(2)))) Then
+    MyMsgBox ("Partial pressure of water vapor is outside range of validity of equations")
+    GoTo ErrHandler
+  End If
+  PSYCHROLIB_TOLERANCE = GetTol()
+  T_WATER_FREEZE_LOW = T_WATER_FREEZE - PSYCHROLIB_TOLERANCE / 10.        ' Temperature just below freezing
+  T_WATER_FREEZE_HIGH = T_WATER_FREEZE + PSYCHROLIB_TOLERANCE / 10.        ' Temperature just above freezing
+  PWS_FREEZE_LOW = GetSatVapPres(T_WATER_FREEZE_LOW)
+  PWS_FREEZE_HIGH = GetSatVapPres(T_WATER_FREEZE_HIGH)
+  If (VapPres < PWS_FREEZE_LOW) Then
+    BOUNDS(2) = T_WATER_FREEZE_LOW
+  ElseIf (VapPres > PWS_FREEZE_HIGH) Then
+    BOUNDS(1) = T_WATER_FREEZE_HIGH
+  Else
+    GetTDewPointFromVapPres = T_WATER_FREEZE
+    Exit Function
+  End If
+  Dim TDewPoint As Variant
+  Dim lnVP As Variant
+  Dim d_lnVP As Variant
+  Dim TDewPoint_iter As Variant
+  Dim lnVP_iter
+  Dim index As Variant
+  index = 1
+  TDewPoint = TDryBulb        ' Calculated value of dew point temperatures, solved for iteratively
+  lnVP = Log(VapPres)         ' Partial pressure of water vapor in moist air
+  Do
+    TDewPoint_iter = TDewPoint   ' Value of Tdp used in NR calculation
+    lnVP_iter = Log(GetSatVapPres(TDewPoint_iter))
+    d_lnVP = dLnPws_(TDewPoint_iter)
+    TDewPoint = TDewPoint_iter - (lnVP_iter - lnVP) / d_lnVP
+    TDewPoint = Max(TDewPoint, BOUNDS(1))
+    TDewPoint = Min(TDewPoint, BOUNDS(2))
+    If (index > MAX_ITER_COUNT) Then
+      GoTo ErrHandler
+    End If
+    index = index + 1
+  Loop While (Abs(TDewPoint - TDewPoint_iter) > PSYCHROLIB_TOLERANCE)
+  TDewPoint = Min(TDewPoint, TDryBulb)
+  GetTDewPointFromVapPres = TDewPoint
+  Exit Function
+ErrHandler:
+  GetTDewPointFromVapPres = CVErr(xlErrNA)
+End Function
+Function GetSatVapPres(ByVal TDryBulb As Variant) As Variant
+  Dim LnPws As Variant, T As Variant
+  On Error GoTo ErrHandler
+  If (isIP()) Then
+    If (TDryBulb < -148 Or TDryBulb > 392) Then
+      MyMsgBox ("Dry bulb temperature is outside range [-148, 392] °F")
+      GoTo ErrHandler
+    End If
+    T = GetTRankineFromTFahrenheit(TDryBulb)
+    If (TDryBulb <= 32) Then
+      LnPws = (-10214.165 / T - 4.8932428 - 0.0053765794 * T + 0.00000019202377 * T ^ 2 _
+            + 3.5575832E-10 * T ^ 3 - 9.0344688E-14 * T ^ 4 + 4.1635019 * Log(T))
+    Else
+      LnPws = -10440.397 / T - 11.29465 - 0.027022355 * T + 0.00001289036 * T ^ 2 _
+            - 2.4780681E-09 * T ^ 3 + 6.5459673 * Log(T)
+    End If
+  Else
+    If (TDryBulb < -100 Or TDryBulb > 200) Then
+      MyMsgBox ("Dry bulb temperature is outside range [-100, 200] °C")
+      GoTo ErrHandler
+    End If
+    T = GetTKelvinFromTCelsius(TDryBulb)
+    If (TDryBulb <= 0) Then
+        LnPws = -5674.5359 / T + 6.3925247 - 0.009677843 * T + 0.00000062215701 * T ^ 2 _
+              + 2.0747825E-09 * T ^ 3 - 9.484024E-13 * T ^ 4 + 4.1635019 * Log(T)
+    Else
+        LnPws = -5800.2206 / T + 1.3914993 - 0.048640239 * T + 0.000041764768 * T ^ 2 _
+              - 0.000000014452093 * T ^ 3 + 6.5459673 * Log(T)
+    End If
+  End If
+  GetSatVapPres = Exp(LnPws)
+  Exit Function
+ErrHandler:
+  GetSatVapPres = CVErr(xlErrNA)
+End Function
+Function GetVapPresFromRelHum(ByVal TDryBulb As Variant, ByVal RelHum As Variant) As Variant
+  On Error GoTo ErrHandler
+  If RelHum < 0 Or RelHum > 1 Then
+    MyMsgBox ("Relative humidity is outside range [0, 1]")
+    GoTo ErrHandler
+  End If
+  GetVapPresFromRelHum = RelHum * GetSatVapPres(TDryBulb)
+  Exit Function
+ErrHandler:
+  GetVapPresFromRelHum = CVErr(xlErrNA)
+End Function
+Function GetTDewPointFromRelHum(ByVal TDryBulb As Variant, ByVal RelHum As Variant) As Variant
+  Dim VapPres As Variant
+  On Error GoTo ErrHandler
+  If RelHum < 0 Or RelHum > 1 Then
+    MyMsgBox ("Relative humidity is outside range [0, 1]")
+    GoTo ErrHandler
+  End If
+  VapPres = GetVapPresFromRelHum(TDryBulb, RelHum)
+  GetTDewPointFromRelHum = GetTDewPointFromVapPres(TDryBulb, VapPres)
+  Exit Function
+ErrHandler:
+  GetTDewPointFromRelHum = CVErr(xlErrNA)
+End Function
+Function GetTWetBulbFromHumRatio(ByVal TDryBulb As Variant, ByVal HumRatio As Variant, ByVal Pressure As Variant) As Variant
+  Dim Wstar As Variant
+  Dim TDewPoint As Variant, TWetBulb As Variant, TWetBulbSup As Variant, TWetBulbInf As Variant
+  Dim Tol As Variant, BoundedHumRatio As Variant, index As Variant
+  On Error GoTo ErrHandler
+  If HumRatio < 0 Then
+    MyMsgBox ("Humidity ratio cannot be negative")
+    GoTo ErrHandler
+  End If
+  BoundedHumRatio = max(HumRatio, MIN_HUM_RATIO)
+  TDewPoint = GetTDewPointFromHumRatio(TDryBulb, BoundedHumRatio, Pressure)
+  TWetBulbSup = TDryBulb
+  TWetBulbInf = TDewPoint
+  TWetBulb = (TWetBulbInf + TWetBulbSup) / 2
+  Tol = GetTol()
+  index = 0
+  While (((TWetBulbSup - TWetBulbInf) > Tol) Or (index < MAX_ITER_COUNT))
+   Wstar = GetHumRatioFromTWetBulb(TDryBulb, TWetBulb, Pressure)
+   If (Wstar > BoundedHumRatio) Then
+    TWetBulbSup = TWetBulb
+   Else
+    TWetBulbInf = TWetBulb
+   End If
+   TWetBulb = (TWetBulbSup + TWetBulbInf) / 2
+   index = index + 1
+  Wend
+  GetTWetBulbFromHumRatio = TWetBulb
+  Exit Function
+ErrHandler:
+  GetTWetBulbFromHumRatio = CVErr(xlErrNA)
+End Function
+Function GetHumRatioFromTWetBulb(ByVal TDryBulb As Variant, ByVal TWetBulb As Variant, ByVal Pressure As Variant) As Variant
+  Dim Wsstar As Variant, HumRatio As Variant
+  Wsstar = GetSatHumRatio(TWetBulb, Pressure)
+  On Error GoTo ErrHandler
+  If TWetBulb > TDryBulb Then
+    MyMsgBox ("Wet bulb temperature is above dry bulb temperature")
+    GoTo ErrHandler
+  End If
+  If isIP() Then
+    If (TWetBulb >= 32) Then
+      HumRatio = ((1093 - 0.556 * TWetBulb) * Wsstar - 0.24 * (TDryBulb - TWetBulb)) / (1093 + 0.444 * TDryBulb - TWetBulb)
+    Else
+      HumRatio = ((1220 - 0.04 * TWetBulb) * Wsstar - 0.24 * (TDryBulb - TWetBulb)) / (1220 + 0.444 * TDryBulb - 0.48 * TWetBulb)
+    End If
+  Else
+    If (TWetBulb >= 0) Then
+      HumRatio = ((2501 - 2.326 * TWetBulb) * Wsstar - 1.006 * (TDryBulb - TWetBulb)) / (2501 + 1.86 * TDryBulb - 4.186 * TWetBulb)
+    Else
+      HumRatio = ((2830# - 0.24 * TWetBulb) * Wsstar - 1.006 * (TDryBulb - TWetBulb)) / (2830# + 1.86 * TDryBulb - 2.1 * TWetBulb)
+    End If
+  End If
+  GetHumRatioFromTWetBulb = max(HumRatio, MIN_HUM_RATIO)
+  Exit Function
+ErrHandler:
+  GetHumRatioFromTWetBulb = CVErr(xlErrNA)
+End Function
+Function GetSatHumRatio(ByVal TDryBulb As Variant, ByVal Pressure As Variant) As Variant
+  Dim SatVaporPres As Variant, SatHumRatio As Variant
+  On Error GoTo ErrHandler
+  SatVaporPres = GetSatVapPres(TDryBulb)
+  SatHumRatio = 0.621945 * SatVaporPres / (Pressure - SatVaporPres)
+  GetSatHumRatio = max(SatHumRatio, MIN_HUM_RATIO)
+  Exit Function
+ErrHandler:
+  GetSatHumRatio = CVErr(xlErrNA)
+End Function
+Function GetTDewPointFromHumRatio(ByVal TDryBulb As Variant, ByVal HumRatio As Variant, ByVal Pressure As Variant) As Variant
+  Dim VapPres As Variant
+  On Error GoTo ErrHandler
+  If HumRatio < 0 Then
+    MyMsgBox ("Humidity ratio is negative")
+    GoTo ErrHandler
+  End If
+  VapPres = GetVapPresFromHumRatio(HumRatio, Pressure)
+  GetTDewPointFromHumRatio = GetTDewPointFromVapPres(TDryBulb, VapPres)
+  Exit Function
+ErrHandler:
+  GetTDewPointFromHumRatio = CVErr(xlErrNA)
+End Function
+Function GetVapPresFromHumRatio(ByVal HumRatio As Variant, ByVal Pressure As Variant) As Variant
+  Dim VapPres As Variant, BoundedHumRatio As Variant
+  On Error GoTo ErrHandler
+  If HumRatio < 0 Then
+    MyMsgBox ("Humidity ratio is negative")
+    GoTo ErrHandler
+  End If
+  BoundedHumRatio = max(HumRatio, MIN_HUM_RATIO)
+  VapPres = Pressure * BoundedHumRatio / (0.621945 + BoundedHumRatio)
+  GetVapPresFromHumRatio = VapPres
+  Exit Function
+ErrHandler:
+  GetVapPresFromHumRatio = CVErr(xlErrNA)
+End Function
+Function GetDryAirVolume(ByVal TDryBulb As Variant, ByVal Pressure As Variant) As Variant
+  On Error GoTo ErrHandler
+  If (isIP()) Then
+    GetDryAirVolume = GetTRankineFromTFahrenheit(TDryBulb) * R_DA_IP / (144 * Pressure)
+  Else:
+    GetDryAirVolume = GetTKelvinFromTCelsius(TDryBulb) * R_DA_SI / Pressure
+  End If
+  Exit Function
+ErrHandler:
+  GetDryAirVolume = CVErr(xlErrNA)
+End Function
+"#;
+
+// The values are PyPI psychrolib 2.5.0's (the same authors' Python, computed apart, SI units):
+// GetTDewPointFromRelHum(25, 0.8) = 21.309397163329322, (-10, 0.5) = -17.581371745187152,
+// GetDryAirVolume(25, 101325) = 0.8446244490500862, printed with "Str function"'s 15 digits.
+// The wet bulb is the VBA module's own bisection: its loop runs `While (Sup - Inf > Tol) Or
+// (index < MAX_ITER_COUNT)`, so 100 halvings, where the Python stops at the 0.001 tolerance
+// (17.985866736924454); psychrolib's GetTWetBulbFromHumRatio with that loop gives
+// 17.98567430224702 for (25, 0.01, 101325). A temperature past 200 °C is CVErr(xlErrNA).
+#[test]
+fn psychrolib_dew_point_and_wet_bulb_agree_with_its_python_twin() {
+    let main = "Sub Main()\n    Debug.Print GetTDewPointFromRelHum(25, 0.8); GetTDewPointFromRelHum(-10, 0.5)\n\
+                \x20   Debug.Print GetTWetBulbFromHumRatio(25, 0.01, 101325); GetDryAirVolume(25, 101325)\n\
+                \x20   Debug.Print IsError(GetSatVapPres(500))\nEnd Sub\n";
+    let printed = printed_with_modules(main, &[("psychrolib", PSYCHROLIB_EXCERPT)]);
+    assert_eq!(printed, [" 21.3093971633293 -17.5813717451872 ", " 17.985674302247  0.844624449050086 ", "True"]);
+}
