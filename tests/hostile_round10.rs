@@ -160,6 +160,34 @@ fn an_array_of_a_type_counts_its_records_fields_against_the_item_limit() {
 }
 
 #[test]
+fn a_record_of_nested_types_is_refused_before_it_is_made() {
+    // docs/limits.md, "macro array items" and "nesting of Types in a record". A Type of two
+    // fields of the Type before it, 39 deep, is 2^39 Doubles: `Dim v As T39` aborted at the
+    // memory cap while the record was made, where an array of such records was refused.
+    let doubling: String =
+        (1..40).map(|i| format!("Type T{i}\n    a As T{}\n    b As T{}\nEnd Type\n", i - 1, i - 1)).collect();
+    let src = format!("Type T0\n    x As Double\nEnd Type\n{doubling}Sub Main()\n    Dim v As T39\nEnd Sub\n");
+    let Err(refused) = common::vba::run_module(&src) else { panic!("a record of 2^39 values was made") };
+    let message = refused.to_string();
+    assert!(message.contains("a T39 holds 549755813888 values") && message.contains("10000000"), "{message}");
+    // A chain of Types each holding the one before overflowed the stack (exit 134) at 20,000;
+    // 255 levels are made, 256 refused.
+    let chain = |n: usize| -> String {
+        let types: String = (1..=n).map(|i| format!("Type T{i}\n    a As T{}\nEnd Type\n", i - 1)).collect();
+        format!("Type T0\n    x As Double\nEnd Type\n{types}")
+    };
+    let deepest = vec!["a"; 255].join(".");
+    let printed = common::vba::printed_after(
+        &chain(255),
+        &format!("    Dim v As T255\n    v.{deepest}.x = 3\n    Debug.Print v.{deepest}.x"),
+    );
+    assert_eq!(printed, [" 3 "]);
+    let src = format!("{}Sub Main()\n    Dim v As T256\nEnd Sub\n", chain(256));
+    let Err(refused) = common::vba::run_module(&src) else { panic!("Types nested 256 deep were made") };
+    assert!(refused.to_string().contains("a T256 nests Types more than 255 deep"), "{refused}");
+}
+
+#[test]
 fn many_types_and_a_type_of_many_fields_are_declared_in_linear_time() {
     // Each field's name was compared with every field before it, and each `As T` looked for
     // T among all the Types: 100,000 fields took 25 s and 50,000 Types 10 s, growing with

@@ -100,6 +100,73 @@ impl Interp<'_, '_> {
         Err(f)
     }
 
+    /// Refuses a record of Type `i` before any of it is made when its values (its fields,
+    /// those of the Types and fixed arrays within it) pass the item limit or its Types nest
+    /// deeper than [`MAX_RECORD_NESTING`]: a Type of two fields of a Type of two fields …, 39
+    /// deep, is 2^39 Doubles, and a chain of 20,000 Types each holding the one before
+    /// overflowed the stack; both aborted while the record was being made.
+    #[inline(never)]
+    pub(super) fn record_within_limits(&self, i: usize) -> Run<()> {
+        let (values, _) = self.record_size((i, i), 0, &mut std::collections::HashMap::new())?;
+        let limit = self.options.max_array_items;
+        if values <= limit {
+            return Ok(());
+        }
+        let mut f = self.fault(format!(
+            "a {} holds {values} values (its fields, with the Types and arrays within them), more than the \
+             limit of {limit} items (ncsheet's limit; {})",
+            self.module.types[i].name,
+            self.options.raise_hint("raise it with --max-array-items")
+        ));
+        f.kind = super::ErrorKind::Limit;
+        Err(f)
+    }
+
+    /// The values a record of Type `i` holds and how deep its Types nest below it, each Type
+    /// counted once however often it recurs (`sizes`), so the count takes a step per field;
+    /// `top` is the Type of the record being made, which a refusal names.
+    fn record_size(
+        &self,
+        (top, i): (usize, usize),
+        depth: usize,
+        sizes: &mut std::collections::HashMap<usize, (usize, usize)>,
+    ) -> Run<(usize, usize)> {
+        if let Some(&(values, below)) = sizes.get(&i) {
+            return self.record_nesting_within_limit(top, depth + below).map(|_| (values, below));
+        }
+        self.record_nesting_within_limit(top, depth)?;
+        let def = &self.module.types[i];
+        let (mut values, mut below) = (0usize, 0usize);
+        for ((_, t), bounds) in def.fields.iter().zip(&def.bounds) {
+            let (each, nested) = match t {
+                Ty::Record(inner) => self.record_size((top, *inner), depth + 1, sizes).map(|(v, b)| (v, b + 1))?,
+                _ => (1, 0),
+            };
+            let items = match bounds {
+                Some(b) if !b.is_empty() => {
+                    self.array_dims(b, self.expr_span(&b[0].1))?.iter().fold(1usize, |n, d| n.saturating_mul(d.1))
+                }
+                _ => 1,
+            };
+            values = values.saturating_add(items.saturating_mul(each));
+            below = below.max(nested);
+        }
+        sizes.insert(i, (values.max(1), below));
+        Ok((values.max(1), below))
+    }
+
+    fn record_nesting_within_limit(&self, top: usize, depth: usize) -> Run<()> {
+        if depth <= MAX_RECORD_NESTING {
+            return Ok(());
+        }
+        let mut f = self.fault(format!(
+            "a {} nests Types more than {MAX_RECORD_NESTING} deep (a field of a Type of a Type …; ncsheet's limit)",
+            self.module.types[top].name
+        ));
+        f.kind = super::ErrorKind::Limit;
+        Err(f)
+    }
+
     /// The row-major position of an element, or why there is none.
     pub(super) fn element_at(&self, a: &VArray, index: &[i64]) -> Result<usize, String> {
         let (row, col) = match (a.dims, index) {
@@ -789,6 +856,10 @@ pub(super) fn without_bounds() -> VArray {
 
 /// VBA's limit on an array's dimensions ("Dim statement": "up to 60 dimensions").
 pub(super) const MAX_DIMENSIONS: usize = 60;
+
+/// How deep Types may nest in a record (a field of a Type of a Type …): ncsheet's limit, as
+/// for blocks, so that making, copying and dropping a record stays within the stack.
+pub(super) const MAX_RECORD_NESTING: usize = 255;
 
 /// The row-major position of `index` in an array of `shape` ((lower bound, length) per
 /// dimension), or `None` when an index is outside its dimension.

@@ -1938,8 +1938,17 @@ impl Interp<'_, '_> {
         })
     }
 
-    /// A new variable of a type: a Type's fields each at their own default.
+    /// A new variable of a type: a Type's fields each at their own default, a record within
+    /// the limits on its values and nesting.
     pub(super) fn default_var(&self, ty: Option<&Ty>) -> Run<Var> {
+        if let Some(Ty::Record(i)) = ty {
+            self.record_within_limits(*i)?;
+        }
+        self.default_fields(ty)
+    }
+
+    /// [`Self::default_var`] once its record is known to be within the limits.
+    fn default_fields(&self, ty: Option<&Ty>) -> Run<Var> {
         Ok(match ty {
             Some(Ty::Record(i)) => {
                 let def = &self.module.types[*i];
@@ -1955,7 +1964,7 @@ impl Interp<'_, '_> {
                         Some(_) => Var::Array(
                             super::arrays::unallocated(Some(t)).unwrap_or_else(super::arrays::without_bounds),
                         ),
-                        None => self.default_var(Some(t))?,
+                        None => self.default_fields(Some(t))?,
                     });
                 }
                 Var::Record(*i, fields)
