@@ -383,8 +383,11 @@ fn date_and_time_dollar_are_strings() {
 // "Asc function" ("If the string contains no characters, a run-time error occurs"), "InStr
 // function" (start below 1), "InStrRev function", "Split function" (limit below -1), "Sqr
 // function" (a number below zero), "Log function" (a number not above zero), "Round
-// function" (negative decimal places). CInt and CLng past their type are error 6, Overflow
-// ("Type conversion functions").
+// function" (negative decimal places; and more than 22, where the reference and MS-VBAL's
+// Round, "Function Round(Number As Variant, Optional NumDigitsAfterDecimal As Long)", name no
+// result and 10^22 is the last power of ten a Double scales by exactly: ncsheet raises the
+// same error 5 there, a refusal, rather than print a guessed value). CInt and CLng past their
+// type are error 6, Overflow ("Type conversion functions").
 #[test]
 fn an_argument_outside_the_domain_raises_error_5() {
     for f in [
@@ -402,6 +405,7 @@ fn an_argument_outside_the_domain_raises_error_5() {
         "Sqr(-1)",
         "Log(0)",
         "Round(2.5, -1)",
+        "Round(2.5, 23)",
     ] {
         let out = printed(&format!(
             "    Dim v\n    v = \"kept\"\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number; Err.Description; \" \"; v"

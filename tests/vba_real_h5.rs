@@ -153,3 +153,32 @@ fn range_value_gives_dates_and_currency_as_their_types() {
     );
     assert_eq!(out, [" 7 Date 5 ", " 6 Currency 5 ", " 5  2024  25 "]);
 }
+
+// The same cells passed on: [MS-VBAL] 5.3.1.11 binds an argument's value to a Variant
+// parameter as it is, its value type with it, so `VT(Range("A1").Value)` sees a Date; and
+// "VarType function": "If an object is passed and has a default property, VarType(object)
+// returns the type of the object's default property", so a Range given to `v As Variant` (from
+// a macro or from a cell's formula, `=VT(A1)`) and `VarType(Cells(1, 1))` answer Value's
+// type: 7 for the date cell, 6 for the currency cell. ZiggyLux's CellValueType.excelMacro.bas
+// is such a Function, called both ways.
+#[test]
+fn a_date_or_currency_cell_keeps_its_type_through_a_variant_parameter() {
+    let out = printed(
+        "Function VT(v As Variant) As Integer
+    VT = VarType(v)
+End Function
+         Function VT2(ByVal v As Variant) As Integer
+    VT2 = VarType(v)
+End Function
+",
+        "    Range(\"A1\").Value = 45366: Range(\"A1\").NumberFormat = \"yyyy-mm-dd\"\n\
+         \x20   Range(\"A2\").Value = 12.5: Range(\"A2\").NumberFormat = \"\"\"$\"\"#,##0.00\"\n\
+         \x20   Range(\"A3\").Value = 7\n\
+         \x20   Debug.Print VT(Range(\"A1\").Value); VT2(Cells(1, 1).Value); VT(Range(\"A1\")); VT(Range(\"A1\").Value2)\n\
+         \x20   Debug.Print VT(Range(\"A2\").Value); VT2(Range(\"A2\")); VT(Range(\"A3\").Value); VT(Range(\"A3\"))\n\
+         \x20   Debug.Print VarType(Cells(1, 1)); VarType(Range(\"A2\")); VarType(Range(\"A3\")); VarType(Cells(1, 1).Value2)\n\
+         \x20   Range(\"B1\").Formula = \"=VT(A1)\": Range(\"B2\").Formula = \"=VT(A2)\": Range(\"B3\").Formula = \"=VT(A3)\"\n\
+         \x20   Debug.Print Range(\"B1\").Value; Range(\"B2\").Value; Range(\"B3\").Value",
+    );
+    assert_eq!(out, [" 7  7  7  5 ", " 6  6  5  5 ", " 7  6  5  5 ", " 7  6  5 "]);
+}

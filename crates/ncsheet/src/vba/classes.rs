@@ -707,7 +707,8 @@ impl Interp<'_, '_> {
                     Ok(Some(self.array_item(var, index, *span)?).filter(|v| matches!(v, Var::Obj(_) | Var::Array(_))))
                 }
                 Node::Path(path) => {
-                    let object = self.path(ctx, path);
+                    // Noted: `F(Cells(r, c).Value)` of a date-formatted cell passes a Date.
+                    let object = self.noting_date(*id, || self.path(ctx, path));
                     self.take_pending()?;
                     Ok(Some(match object? {
                         // `hasKey(Worksheets, "Data")`: the collection of sheets passes as an object.

@@ -1347,8 +1347,8 @@ impl Interp<'_, '_> {
                     continue;
                 }
             }
-            if let Some(object) = self.object_arg(ctx, &a.value)? {
-                bound.push((index, self.object_to_param(object, p.params[index].ty.as_ref())?));
+            if let Some(var) = self.object_argument(ctx, &a.value, p.params[index].ty.as_ref(), (index, &mut types))? {
+                bound.push((index, var));
                 continue;
             }
             let var = match ctx.operand(&a.value) {
@@ -1412,6 +1412,24 @@ impl Interp<'_, '_> {
         self.gave.set(frame.vars.get(&p.name).map_or(Declared::Variant, |s| s.holds));
         self.returning_long_long(frame.vars.get(&p.name).and_then(|s| s.exact()));
         Ok((result, frame))
+    }
+
+    /// An argument that [`Interp::object_arg`] reads (an object, a Range, a member path's
+    /// value) as the parameter of type `ty` takes it; a number it gave notes its type for the
+    /// parameter at `index` (`F(Cells(r, c).Value)` of a date-formatted cell passes a Date).
+    /// Its own frame: it runs in every call's argument loop ([`Interp::call_frame`]).
+    #[inline(never)]
+    fn object_argument(
+        &self,
+        ctx: &mut Ctx,
+        e: &Expr,
+        ty: Option<&Ty>,
+        (index, types): (usize, &mut Vec<(usize, Declared)>),
+    ) -> Run<Option<Var>> {
+        let Some(object) = self.object_arg(ctx, e)? else { return Ok(None) };
+        let var = self.object_to_param(object, ty)?;
+        types.extend(self.number_type(e, &var).map(|ty| (index, ty)));
+        Ok(Some(var))
     }
 
     /// A local array of the calling procedure passed ByRef (`HeapSort Arr`), moved into the

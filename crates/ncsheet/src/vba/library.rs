@@ -398,6 +398,8 @@ impl Interp<'_, '_> {
     }
 
     /// `VarType(x)`: a typed variable answers its declared type, a Variant what it holds.
+    /// Its own frame, off the expression evaluator's (which every nested call stacks).
+    #[inline(never)]
     fn var_type(&self, arg: &Expr) -> Run<f64> {
         if self.is_nothing_literal(arg) {
             return Ok(VB_OBJECT);
@@ -410,7 +412,7 @@ impl Interp<'_, '_> {
                 return self.var_type_of_var(&var, ty.as_ref());
             }
         }
-        let var = self.var_of(arg, false)?;
+        let var = self.var_type_operand(arg)?;
         // A value answers the type it is held with (`VarType(5)` vbInteger, `d + 1` of a
         // Date vbDate, an item or a call that gave a Date vbDate).
         match &var {
@@ -422,14 +424,31 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// What `VarType(arg)` asks about: a member path that gives a Range (`VarType(Cells(1, 1))`)
+    /// stays the Range, whose cell's number format decides Date or Currency; an object with a
+    /// default member answers for that member ("VarType function").
+    fn var_type_operand(&self, arg: &Expr) -> Run<Var> {
+        let path = matches!(arg.kind, ExprKind::Host(id) if matches!(self.module.nodes[id as usize], Node::Path(_)));
+        Ok(match self.var_of(arg, path)? {
+            range @ Var::Obj(Obj::Range(..)) => range,
+            Var::Obj(Obj::Instance(object)) if path => self.default_value(&object)?,
+            Var::Obj(Obj::Value(v)) if path => Var::Value(v),
+            var => var,
+        })
+    }
+
     fn var_type_of_var(&self, var: &Var, ty: Option<&Ty>) -> Run<f64> {
         Ok(match var {
             Var::Array(a) => {
                 VB_ARRAY + ty.and_then(declared_var_type).or_else(|| a.item_type.var_type()).unwrap_or(VB_VARIANT)
             }
             Var::Record(..) => 36.0,
-            // A Range answers its default property's (Value's) type.
+            // A Range answers its default property's (Value's) type: a cell formatted as a
+            // date gives a Date, as currency a Currency ("Range.Value property").
             Var::Obj(Obj::Range(sheet, rect)) => match range_var(self.ctx().rect_value(*sheet, *rect)) {
+                Var::Value(v @ Value::Number(_)) => {
+                    self.cell_value_type(*sheet, rect.first).var_type().unwrap_or_else(|| var_type_of(&v))
+                }
                 Var::Value(v) => var_type_of(&v),
                 _ => VB_ARRAY + VB_VARIANT,
             },

@@ -747,10 +747,10 @@ fn array(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::from(crate::eval::value::Array::row(items)))
 }
 
-/// "Round function": a negative number of decimal places is run-time error 5. A macro's
-/// Decimal or Currency rounds its own digits to even (`round_decimal_text`): both are scaled
-/// integers ("Decimal data type", "Currency data type"), so `Round(CCur(1.015), 2)` is a tie
-/// that goes to 1.02, where the double 1.015 lies below the tie.
+/// "Round function": a negative number of decimal places, or one above 22, is run-time error
+/// 5. A macro's Decimal or Currency rounds its own digits to even (`round_decimal_text`): both
+/// are scaled integers ("Decimal data type", "Currency data type"), so `Round(CCur(1.015), 2)`
+/// is a tie that goes to 1.02, where the double 1.015 lies below the tie.
 fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     let exact = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
@@ -764,8 +764,11 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if digits.trunc() < 0.0 {
             return Err(raised.set(5, "the number of decimal places is below zero"));
         }
+        // Past 22 places (10^22 is the last power of ten a Double holds exactly, so the scaling
+        // below would no longer be exact) the place count is out of range: error 5, "Invalid
+        // procedure call or argument", as for a negative count, rather than a guessed number.
         if digits.trunc() > 22.0 {
-            return Err(XlError::Value);
+            return Err(raised.set(5, "the number of decimal places is above 22"));
         }
         if let Some(rounded) = exact.as_deref().and_then(|t| round_decimal_text(t, digits.trunc() as u32)) {
             return Ok(Value::Number(rounded));
@@ -1476,33 +1479,57 @@ pub fn wildcard_matches(pattern: &str, text: &str) -> bool {
     like_matches(&tokens, &text.chars().collect::<Vec<_>>())
 }
 
-/// Dynamic programming over (pattern token, text position): no exponential backtracking on
-/// patterns with many `*`.
+/// Whether `tokens` match the whole of `text`: greedy, returning only to the last `*` seen.
+/// Every other token takes one character, so a later `*` can take whatever an earlier one
+/// would have, and the match is found when there is one. The table over (token, position)
+/// this replaces filled the rest of the text for each position a `*` was reached at:
+/// `String(100000, "a") Like` a pattern of 2,000 `*a` and a `*b` ran past 30 s.
 fn like_matches(tokens: &[LikeToken], text: &[char]) -> bool {
-    // reach[j]: the tokens so far can match text[..j].
-    let mut reach = vec![false; text.len() + 1];
-    reach[0] = true;
-    for token in tokens {
-        let mut next = vec![false; text.len() + 1];
-        for j in 0..=text.len() {
-            if !reach[j] {
+    like_match_steps(tokens, text).0
+}
+
+/// [`like_matches`] and its steps: at most the text's length times the pattern's, about their
+/// sum unless a long run of single tokens after a `*` nearly matches at every position.
+fn like_match_steps(tokens: &[LikeToken], text: &[char]) -> (bool, usize) {
+    let (mut t, mut s, mut steps) = (0, 0, 0);
+    // The last `*` and the text position it has taken up to.
+    let mut star: Option<(usize, usize)> = None;
+    loop {
+        steps += 1;
+        if t == tokens.len() && s == text.len() {
+            return (true, steps);
+        }
+        match (tokens.get(t), text.get(s)) {
+            (Some(LikeToken::Any), _) => {
+                star = Some((t, s));
+                t += 1;
                 continue;
             }
-            match token {
-                LikeToken::Any => next[j..].iter_mut().for_each(|r| *r = true),
-                _ if j == text.len() => {}
-                LikeToken::One => next[j + 1] = true,
-                LikeToken::Digit => next[j + 1] |= text[j].is_ascii_digit(),
-                LikeToken::Char(c) => next[j + 1] |= text[j] == *c,
-                LikeToken::List(ranges, negated) => {
-                    let inside = ranges.iter().any(|(lo, hi)| (*lo..=*hi).contains(&text[j]));
-                    next[j + 1] |= inside != *negated;
-                }
+            (Some(token), Some(&c)) if takes(token, c) => {
+                (t, s) = (t + 1, s + 1);
+                continue;
             }
+            _ => {}
         }
-        reach = next;
+        match star {
+            Some((st, ss)) if ss < text.len() => {
+                star = Some((st, ss + 1));
+                (t, s) = (st + 1, ss + 1);
+            }
+            _ => return (false, steps),
+        }
     }
-    reach[text.len()]
+}
+
+/// Whether a token other than `*` takes the character `c`.
+fn takes(token: &LikeToken, c: char) -> bool {
+    match token {
+        LikeToken::One => true,
+        LikeToken::Digit => c.is_ascii_digit(),
+        LikeToken::Char(x) => *x == c,
+        LikeToken::List(ranges, negated) => ranges.iter().any(|(lo, hi)| (*lo..=*hi).contains(&c)) != *negated,
+        LikeToken::Any => false,
+    }
 }
 
 #[cfg(test)]
@@ -1537,5 +1564,36 @@ mod tests {
         assert_eq!(vba_val("abc"), 0.0);
         assert_eq!(vba_val(".5"), 0.5);
         assert_eq!(vba_val("2e"), 2.0);
+    }
+
+    #[test]
+    fn like_matches_as_the_vba_reference_shows_in_steps_near_the_text_and_pattern() {
+        let matches = |text: &str, pattern: &str| like(&Value::from(text), &Value::from(pattern));
+        // The examples of the Office VBA reference's "Like operator" page.
+        for (text, pattern, expected) in [
+            ("aBBBa", "a*a", true),
+            ("F", "[A-Z]", true),
+            ("F", "[!A-Z]", false),
+            ("a2a", "a#a", true),
+            ("aM5b", "a[L-P]#[!c-e]", true),
+            ("BAT123khg", "B?T*", true),
+            ("CAT123khg", "B?T*", false),
+            ("ab", "a*b", true),
+            ("a*b", "a [*]b", false),
+            ("axxxxxb", "a [*]b", false),
+            ("a [xyz", "a [[]xyz", true),
+        ] {
+            assert_eq!(matches(text, pattern), Value::Bool(expected), "{text:?} Like {pattern:?}");
+        }
+        // A `*` that must give back what it took: the last `*` moves on, not the first.
+        assert_eq!(matches("abcbcd", "*bc*cd"), Value::Bool(true));
+        assert_eq!(matches("abcbce", "*bc*cd"), Value::Bool(false));
+        // 2,000 `*a` and a `*b` against 100,000 "a": the table over (token, position) took
+        // a step for every later position at each position a `*` reached, past 30 s.
+        let text: Vec<char> = "a".repeat(100_000).chars().collect();
+        let tokens = like_tokens(&("*a".repeat(2000) + "*b")).expect("a valid pattern");
+        let (found, steps) = like_match_steps(&tokens, &text);
+        assert!(!found);
+        assert!(steps <= 3 * (text.len() + tokens.len()), "{steps} steps");
     }
 }
