@@ -140,3 +140,30 @@ fn cvar_keeps_the_type_and_cdec_of_too_many_digits_is_refused_by_name() {
         main_fails(&mut Workbook::with_sheet(), "    Dim v As Variant\n    v = CDec(\"1.2345678901234567890\")");
     assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
 }
+
+// ---- an array as an operand --------------------------------------------------------------
+
+/// [MS-VBAL] 5.6.9.3-5.6.9.8 define VBA's arithmetic, comparison, concatenation and logical
+/// operators on single values (numbers, dates, strings, Booleans, Empty, Null), and "Type
+/// mismatch (Error 13)" (Office VBA reference) names the cause "An object was passed to a
+/// procedure that is expecting a single property or value": a several-cell Range's value and
+/// a Variant holding an array are operands of no operator, where a formula's operators work
+/// item by item. PsychroLib's `If (TDryBulb < -100 Or TDryBulb > 200)` on a cell's `=
+/// GetSatVapPres(A1:A2)` gave a number instead of Excel's #N/A from its error handler.
+#[test]
+fn an_array_is_no_operand() {
+    let mut wb = Workbook::with_sheet();
+    for (row, text) in ["1", "2"].iter().enumerate() {
+        wb.set_input(0, ncsheet::formula::address::Pos::new(row as u32, 0), text).unwrap();
+    }
+    let printed = run_main(
+        &mut wb,
+        "    Dim v As Variant, a As Variant\n    a = Array(1, 2)\n    On Error Resume Next\n\
+         \x20   v = Range(\"A1:A2\") + 1: Debug.Print Err.Number;: Err.Clear\n\
+         \x20   v = Range(\"A1:A2\") < 5: Debug.Print Err.Number;: Err.Clear\n\
+         \x20   v = a * 2: Debug.Print Err.Number;: Err.Clear\n\
+         \x20   v = a & \"x\": Debug.Print Err.Number;: Err.Clear\n\
+         \x20   v = Range(\"A1:A1\") + 1: Debug.Print Err.Number; v",
+    );
+    assert_eq!(printed, [" 13  13  13  13  0  2 "]);
+}

@@ -222,6 +222,9 @@ impl Host for Interp<'_, '_> {
     fn arithmetic(&self, op: BinOp, operands: (&Expr, &Expr), values: (&Value, &Value), result: Value) -> Value {
         self.forget_widening(operands.0);
         self.forget_exact(operands.0, [values.0, values.1, &result]);
+        if self.refused_array_operand(op, operands, values) {
+            return Value::Error(XlError::Value);
+        }
         if op == BinOp::Concat {
             if let Some(fault) = self.concat_error(operands, values) {
                 self.park(fault);

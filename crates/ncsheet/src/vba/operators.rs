@@ -119,6 +119,30 @@ impl Interp<'_, '_> {
         Some(fault)
     }
 
+    /// Type mismatch (run-time error 13) of an operator with an array operand (a several-cell
+    /// `Range`'s value, a Variant holding an array): VBA's arithmetic, comparison and logical
+    /// operators are defined on single values ([MS-VBAL] 5.6.9.3-5.6.9.8: numbers, dates,
+    /// strings, Booleans, Empty, Null; "Type mismatch (Error 13)": "An object was passed to a
+    /// procedure that is expecting a single property or value"), where a formula's `+` works
+    /// item by item. So `Range("A1:A2") < -100` fails, as it does in Excel, instead of giving
+    /// an array whose first item an `If` would then read.
+    /// The fault is parked here, so the caller's frame on every operator holds no `Fault`
+    /// (tests/vba_errors.rs: 100 nested calls in a 2 MB thread).
+    #[inline(never)]
+    pub(super) fn refused_array_operand(&self, op: BinOp, (ea, eb): (&Expr, &Expr), (a, b): (&Value, &Value)) -> bool {
+        let array = |v: &Value| matches!(v, Value::Array(_));
+        if matches!(op, BinOp::Range | BinOp::Intersect | BinOp::Union) || !array(a) && !array(b) {
+            return false;
+        }
+        let shown = self.quoted_source(ea.span.start, eb.span.end, "the operation");
+        let (code, name) = TYPE_MISMATCH;
+        let at = self.expr_span(if array(a) { ea } else { eb });
+        let mut fault = self.fault_at(at, format!("{name} (run-time error {code}): {shown} has an array operand"));
+        fault.code = code;
+        self.park(fault);
+        true
+    }
+
     /// Type mismatch (run-time error 13) of `-operand`, which gave the error value `result`:
     /// the operand was a text that is no number or an error value ([MS-VBAL] 5.6.9.3.1, the
     /// operand is let-coerced to a number).
