@@ -651,6 +651,51 @@ fn regular_expressions_past_the_work_limit_are_num_naming_it() {
     assert_eq!(get(&wb, "B2"), n(1.0));
     set(&mut wb, "B3", &format!(r#"=XLOOKUP({chain},REPT("a",30000),1,,3)"#));
     assert_eq!(get(&wb, "B3"), Value::Error(XlError::Num));
+    // Each says why, as REGEXTEST does (before, #NUM! with no note).
+    assert!(
+        mentions(&problems_at(&wb, "B1"), &["XMATCH: searching 1 item (30001 bytes)", "limit of 3e9"]),
+        "{:?}",
+        problems_at(&wb, "B1")
+    );
+    assert!(
+        mentions(&problems_at(&wb, "B3"), &["XLOOKUP: searching 1 item (30000 bytes)"]),
+        "{:?}",
+        problems_at(&wb, "B3")
+    );
+    set(&mut wb, "B4", r#"=XMATCH(REPT("(a?)",1000)&REPT("a",1000),{"b";"x"},3)"#);
+    assert_eq!(get(&wb, "B4"), Value::Error(XlError::Num));
+    assert!(
+        mentions(&problems_at(&wb, "B4"), &["XMATCH: the pattern's 1000 capture groups"]),
+        "{:?}",
+        problems_at(&wb, "B4")
+    );
+}
+
+/// Finding every match searches again from each match's end, and a search reads on while a
+/// branch of higher priority could still match: `.*[^A-Z]` stays alive to the end of a text
+/// of letters, so each one-letter match of `[A-Z]` reads the rest of the text (the `regex`
+/// crate's documented O(m·n²) for its iterators; 10,000 letters took 4 s, 32,767 about 40 s).
+/// The bytes each search reads are added up against the same 3·10^9: a few dozen searches of
+/// 10,000 letters pass it. Over 1,000 letters the same pattern answers (Python:
+/// re.sub('.*[^A-Z]|[A-Z]', 'x', 'A'*1000) is 'x'*1000).
+#[test]
+fn finding_every_match_counts_the_bytes_each_search_reads() {
+    let mut wb = Workbook::with_sheet();
+    let pattern = r#"".*[^A-Z]|[A-Z]""#;
+    set(&mut wb, "A1", &format!(r#"=REGEXREPLACE(REPT("A",1000),{pattern},"x")=REPT("x",1000)"#));
+    assert_eq!(get(&wb, "A1"), Value::Bool(true));
+    for (cell, formula) in [
+        ("A2", format!(r#"=REGEXREPLACE(REPT("A",10000),{pattern},"x")"#)),
+        ("A3", format!(r#"=REGEXEXTRACT(REPT("A",10000),{pattern},1)"#)),
+    ] {
+        set(&mut wb, cell, &formula);
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Num), "{formula}");
+        let problems = problems_at(&wb, cell);
+        assert!(
+            mentions(&problems, &["finding every match", "10000 bytes", "limit of 3e9"]),
+            "{formula}: {problems:?}"
+        );
+    }
 }
 
 /// Ordinary patterns on the longest texts a cell holds still answer: a Unicode class counts
@@ -666,4 +711,13 @@ fn ordinary_patterns_on_long_texts_still_answer() {
     assert_eq!(get(&wb, "A2"), Value::text("dragon,xyzzy,com"));
     set(&mut wb, "A3", r#"=REGEXTEST(REPT("語",32000)&"1","^\w+\d$")"#);
     assert_eq!(get(&wb, "A3"), Value::Bool(true));
+    // Every match of 32,767-character texts, each search reading a few bytes: Python's
+    // re.sub('[A-Z]', '', 'A'*32767) is '', len(re.findall(r'\w+', 'word '*6553)) 6553,
+    // len(re.sub(r'\d', '', 'ab1 '*8191)) 24573.
+    set(&mut wb, "A4", r#"=LEN(REGEXREPLACE(REPT("A",32767),"[A-Z]",""))"#);
+    assert_eq!(get(&wb, "A4"), n(0.0));
+    set(&mut wb, "A5", r#"=COLUMNS(REGEXEXTRACT(REPT("word ",6553),"\w+",1))"#);
+    assert_eq!(get(&wb, "A5"), n(6553.0));
+    set(&mut wb, "A6", r#"=LEN(REGEXREPLACE(REPT("ab1 ",8191),"\d",""))"#);
+    assert_eq!(get(&wb, "A6"), n(24573.0));
 }

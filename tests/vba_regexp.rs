@@ -320,3 +320,24 @@ fn a_loop_of_searches_counts_their_work_as_statements() {
     assert_eq!(e.kind, ncsheet::vba::ErrorKind::Limit, "{e}");
     assert!(e.message.contains("text and array work counts too"), "{e}");
 }
+
+/// A global search searches again from each match's end, and a search reads on while a
+/// branch of higher priority could still match: `.*[^A-Z]` stays alive to the end of a text
+/// of letters, so each one-letter match of `[A-Z]` reads the rest (10,000 letters took
+/// seconds). The bytes each search reads are added up against the one limit of 3·10^9, for
+/// Execute and Replace alike; without Global one search is made, and over 1,000 letters the
+/// global search answers (JavaScript: "A".repeat(1000).replace(/.*[^A-Z]|[A-Z]/g, "x") is
+/// 1,000 "x").
+#[test]
+fn a_global_search_counts_the_bytes_each_search_reads() {
+    let setup = "Dim re: Set re = New RegExp\n re.Pattern = \".*[^A-Z]|[A-Z]\"\n re.Global = True\n";
+    let short = format!("{setup} Debug.Print re.Replace(String(1000, \"A\"), \"x\") = String(1000, \"x\")");
+    assert_eq!(printed(&short), ["True"]);
+    for call in ["re.Execute(t).Count", "re.Replace(t, \"x\")"] {
+        let e = stops_within(&format!("{setup} Dim t: t = String(10000, \"A\")\n Debug.Print {call}"), 30_000_000);
+        assert_eq!(e.kind, ncsheet::vba::ErrorKind::Limit, "{call}: {e}");
+        assert!(e.message.contains("finding every match") && e.message.contains("limit of 3e9"), "{call}: {e}");
+    }
+    let once = format!("{setup} re.Global = False\n Debug.Print re.Execute(String(10000, \"A\")).Count");
+    assert_eq!(printed(&once), [" 1 "]);
+}

@@ -19,7 +19,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use crate::eval::functions::vba::vba_text;
-use crate::eval::regex_limits::{self, Pattern};
+use crate::eval::regex_limits::{self, Pattern, TooMuchWork};
 use crate::eval::Value;
 use crate::formula::ast::Expr;
 
@@ -588,20 +588,36 @@ fn utf16_len(text: &str) -> usize {
     text.chars().map(char::len_utf16).sum()
 }
 
+/// Why Execute or Replace stopped part way.
+#[derive(Debug)]
+enum Stopped {
+    /// Execute's matches passed the memory budget: the bytes they came to.
+    Memory(u64),
+    /// Replace's text passed the longest string.
+    TooLong,
+    /// The searches of a global search passed the work limit.
+    Work(TooMuchWork),
+}
+
 /// Each match of `compiled` in `text` with its groups' texts (`None` for a group that took
 /// no part): the first, or with `global` every one, as JScript's global search finds them
 /// (after an empty match the search goes on from the next character, so `a*` finds "",
-/// "aaa" and "" in "baaa").
+/// "aaa" and "" in "baaa"). With `global` each search is charged the bytes it reads
+/// (`regex_limits::Searches`): the work of them all, or `Err` once it passes the limit.
 fn each_match(
     compiled: &Compiled,
     text: &str,
     global: bool,
     mut found: impl FnMut(regex::Match, Vec<Option<Rc<str>>>) -> bool,
-) {
+) -> Result<u64, TooMuchWork> {
     let regex = &compiled.pattern.regex;
+    let mut searches = compiled.pattern.searches(text);
     let mut locations = regex.capture_locations();
     let mut at = 0;
     while at <= text.len() {
+        if global {
+            searches.charge(at)?;
+        }
         let Some(whole) = regex.captures_read_at(&mut locations, text, at) else { break };
         let groups = (1..locations.len()).map(|g| locations.get(g).map(|(s, e)| Rc::from(&text[s..e]))).collect();
         if !found(whole, groups) || !global {
@@ -612,25 +628,28 @@ fn each_match(
             false => whole.end() + text[whole.end()..].chars().next().map_or(1, char::len_utf8),
         };
     }
+    Ok(searches.work())
 }
 
-/// The matches `Execute` gives, their places counted in UTF-16 units; `Err` with the bytes
-/// they came to once those pass `budget` (the run's memory limit), when the search stops.
-fn find(compiled: &Compiled, text: &str, global: bool, budget: u64) -> Result<Vec<Hit>, u64> {
+/// The matches `Execute` gives, their places counted in UTF-16 units, and the searches'
+/// work; stopped once the matches pass `budget` (the run's memory limit) or the searches the
+/// work limit.
+fn find(compiled: &Compiled, text: &str, global: bool, budget: u64) -> Result<(Vec<Hit>, u64), Stopped> {
     let mut hits = Vec::new();
     let (mut counted_to, mut units, mut bytes) = (0, 0, 0u64);
-    each_match(compiled, text, global, |whole, groups| {
+    let work = each_match(compiled, text, global, |whole, groups| {
         units += utf16_len(&text[counted_to..whole.start()]);
         counted_to = whole.start();
         bytes = bytes.saturating_add(hit_bytes(whole.as_str(), &groups));
         let value = Rc::from(whole.as_str());
         hits.push(Hit { value, first_index: units, length: utf16_len(whole.as_str()), groups });
         bytes <= budget
-    });
+    })
+    .map_err(Stopped::Work)?;
     if bytes > budget {
-        return Err(bytes);
+        return Err(Stopped::Memory(bytes));
     }
-    Ok(hits)
+    Ok((hits, work))
 }
 
 /// The replacement text of one match: `$&` the match, `` $` `` the text before it, `$'` the
@@ -678,12 +697,19 @@ fn expand(replacement: &str, text: &str, hit_at: (usize, usize), groups: &[Optio
     out
 }
 
-/// `Replace`: the text with the first match, or with `global` every match, replaced; `None`
-/// once it passes `limit` characters (the longest string a macro may make), when it stops.
-fn replace(compiled: &Compiled, text: &str, replacement: &str, global: bool, limit: usize) -> Option<String> {
+/// `Replace`: the text with the first match, or with `global` every match, replaced, and the
+/// searches' work; stopped once the text passes `limit` characters (the longest string a
+/// macro may make) or the searches the work limit.
+fn replace(
+    compiled: &Compiled,
+    text: &str,
+    replacement: &str,
+    global: bool,
+    limit: usize,
+) -> Result<(String, u64), Stopped> {
     let mut out = String::with_capacity(text.len());
     let (mut copied, mut chars) = (0, 0usize);
-    each_match(compiled, text, global, |whole, groups| {
+    let work = each_match(compiled, text, global, |whole, groups| {
         let before = &text[copied..whole.start()];
         let expanded = expand(replacement, text, (whole.start(), whole.end()), &groups);
         chars = chars.saturating_add(before.chars().count() + expanded.chars().count());
@@ -691,10 +717,14 @@ fn replace(compiled: &Compiled, text: &str, replacement: &str, global: bool, lim
         out.push_str(&expanded);
         copied = whole.end();
         chars <= limit
-    });
+    })
+    .map_err(Stopped::Work)?;
     chars = chars.saturating_add(text[copied..].chars().count());
     out.push_str(&text[copied..]);
-    (chars <= limit).then_some(out)
+    if chars > limit {
+        return Err(Stopped::TooLong);
+    }
+    Ok((out, work))
 }
 
 // ---- the objects' members ---------------------------------------------------------------
@@ -769,6 +799,25 @@ impl Interp<'_, '_> {
             ));
         }
         Ok(())
+    }
+
+    /// Execute or Replace stopped part way, a Limit error naming the limit; the searches' work
+    /// otherwise counted against the statement limit.
+    #[inline(never)]
+    fn stopped_or_counted<T>(&self, result: Result<(T, u64), Stopped>, link: &Link) -> Run<T> {
+        match result {
+            Ok((value, work)) => {
+                self.add_work(work / SEARCH_WORK_PER_UNIT);
+                Ok(value)
+            }
+            Err(Stopped::Memory(bytes)) => Err(self.too_many_matches(bytes, link.span)),
+            Err(Stopped::TooLong) => Err(self.replaced_too_long(link.span)),
+            Err(Stopped::Work(too_much)) => {
+                let mut f = self.fault_at(link.span, format!("{}: {too_much}", link.name));
+                f.kind = super::ErrorKind::Limit;
+                Err(f)
+            }
+        }
     }
 
     /// Execute's matches past the run's memory limit: stopped before they take more.
@@ -909,8 +958,7 @@ impl Interp<'_, '_> {
                 let compiled = self.compiled(settings, link.span, "Execute")?;
                 let text = self.searched(&compiled, link)?;
                 let budget = self.options.max_memory;
-                let hits = find(&compiled, &text, settings.borrow().global, budget)
-                    .map_err(|bytes| self.too_many_matches(bytes, link.span))?;
+                let hits = self.stopped_or_counted(find(&compiled, &text, settings.borrow().global, budget), link)?;
                 self.charge(hits_bytes(&hits), link.span)?;
                 Ok(Obj::Regex(RegexObj::Matches(Rc::new(hits))))
             }
@@ -922,8 +970,8 @@ impl Interp<'_, '_> {
                 self.search_work(&compiled, &text, link)?;
                 let replacement = self.regex_text(args[1], link, "replaceString")?;
                 let limit = self.options.max_string;
-                let replaced = replace(&compiled, &text, &replacement, settings.borrow().global, limit)
-                    .ok_or_else(|| self.replaced_too_long(link.span))?;
+                let found = replace(&compiled, &text, &replacement, settings.borrow().global, limit);
+                let replaced = self.stopped_or_counted(found, link)?;
                 self.charge(replaced.len() as u64, link.span)?;
                 Ok(Obj::Value(Value::Text(replaced.into())))
             }
@@ -970,6 +1018,7 @@ mod tests {
         let compiled = compile(pattern, false, false).unwrap();
         find(&compiled, text, true, u64::MAX)
             .unwrap()
+            .0
             .into_iter()
             .map(|h| (h.first_index, h.value.to_string()))
             .collect()

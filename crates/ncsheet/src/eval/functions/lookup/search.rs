@@ -1,7 +1,7 @@
 //! Lookup and reference functions. INDEX, CHOOSE (in logic) and XLOOKUP return references
 //! when given references, so that `SUM(A1:INDEX(A1:A9, n))` works as in Excel.
 
-use std::cell::{Cell, OnceCell};
+use std::cell::{Cell, OnceCell, RefCell};
 use std::cmp::Ordering;
 use std::rc::Rc;
 
@@ -690,6 +690,7 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
             None => fallback.clone().ok_or(XlError::NA),
         });
         ctx.charge(looked.get());
+        mode.explain(ctx, "XLOOKUP");
         // Each key may pick anywhere in the return array (FnSpec::picked_arg: no edge).
         if let Some((sheet, rect)) = result.place {
             ctx.note_dynamic_ref(sheet, rect);
@@ -698,6 +699,7 @@ fn xlookup_operand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Operand> {
     }
     let found = mode.find(&key, &items, &looked);
     ctx.charge(looked.get());
+    mode.explain(ctx, "XLOOKUP");
     match found? {
         Some(i) => Ok(match result.place {
             Some((sheet, rect)) => {
@@ -725,6 +727,9 @@ struct XMode {
     wildcards: bool,
     regex: bool,
     search: i64,
+    /// Why match mode 3 was refused (a limit of `regex_limits`), for the cell's note: the
+    /// lookups run where the context cannot be reached.
+    refusal: RefCell<Option<String>>,
 }
 
 impl XMode {
@@ -742,7 +747,14 @@ impl XMode {
         if !matches!(search, 1 | -1 | 2 | -2) || ((wildcards || regex) && search.abs() == 2) {
             return Err(XlError::Value);
         }
-        Ok(XMode { fallback, wildcards, regex, search })
+        Ok(XMode { fallback, wildcards, regex, search, refusal: RefCell::default() })
+    }
+
+    /// Names in the cell's note the limit match mode 3 met, if it met one.
+    fn explain(&self, ctx: &mut Ctx, name: &str) {
+        if let Some(why) = self.refusal.take() {
+            ctx.explain(XlError::Num, format!("{name}: {why}"));
+        }
     }
 
     /// The position of `key` in `items`; the items looked at are added to `looked`.
@@ -757,7 +769,7 @@ impl XMode {
             }
         }
         if self.regex {
-            let found = regex_position(key, items.items, reverse);
+            let found = regex_position(key, items.items, reverse, &self.refusal);
             add(looked, looked_at(found.ok().flatten(), items.items.len(), reverse));
             return found;
         }
@@ -769,26 +781,35 @@ impl XMode {
     }
 }
 
-/// Match mode 3: the first (or last) item whose text the lookup value, read as a regular
-/// expression as REGEXTEST reads it (case counts, a match anywhere), matches; blanks and
-/// errors take no part. A pattern that does not compile is `#VALUE!`.
-/// XLOOKUP's and XMATCH's match mode 3: the first (or last) item the pattern matches. The
-/// pattern and the work of all the searches together are bounded as REGEXTEST's are
-/// (`regex_limits`): past them `#NUM!`, an unreadable pattern `#VALUE!`.
-fn regex_position(key: &Value, items: &[Value], reverse: bool) -> XlResult<Option<usize>> {
+/// XLOOKUP's and XMATCH's match mode 3: the first (or last) item whose text the lookup
+/// value, read as a regular expression as REGEXTEST reads it (case counts, a match
+/// anywhere), matches; blanks and errors take no part. The pattern and the work of all the
+/// searches together are bounded as REGEXTEST's are (`regex_limits`): past them `#NUM!`, the
+/// limit kept in `refusal` for the cell's note; a pattern that does not compile `#VALUE!`.
+fn regex_position(
+    key: &Value,
+    items: &[Value],
+    reverse: bool,
+    refusal: &RefCell<Option<String>>,
+) -> XlResult<Option<usize>> {
+    let refuse = |why: String| {
+        *refusal.borrow_mut() = Some(why);
+        XlError::Num
+    };
     let pattern = regex_limits::compile(&to_text(key)?, false).map_err(|e| match e {
         regex_limits::PatternError::Syntax(_) => XlError::Value,
-        _ => XlError::Num,
+        limit => refuse(limit.to_string()),
     })?;
-    let mut work = 0u64;
+    let (mut work, mut searched, mut bytes) = (0u64, 0, 0);
     let mut matches = |v: &Value| -> XlResult<bool> {
         if matches!(v, Value::Blank | Value::Error(_)) {
             return Ok(false);
         }
         let Ok(text) = to_text(v) else { return Ok(false) };
         work = work.saturating_add(pattern.work(&text));
+        (searched, bytes) = (searched + 1, bytes + text.len());
         if work > regex_limits::MAX_MATCH_WORK {
-            return Err(XlError::Num);
+            return Err(refuse(regex_limits::TooMuchWork::lookup(work, searched, bytes).to_string()));
         }
         Ok(pattern.regex.is_match(&text))
     };
@@ -813,6 +834,7 @@ fn xmatch(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Ok(Value::Number(i as f64 + 1.0))
     });
     ctx.charge(looked.get());
+    mode.explain(ctx, "XMATCH");
     found
 }
 

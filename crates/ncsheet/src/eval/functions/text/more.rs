@@ -276,7 +276,12 @@ fn regex_extract(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         };
         match mode {
             0.0 => re.find(&text).map(|m| Value::text(m.as_str())).ok_or(XlError::NA),
-            1.0 => texts(re.find_iter(&text).map(|m| Value::text(m.as_str())).collect()),
+            1.0 => {
+                let mut searches = pattern.searches(&text);
+                let found = searches.charged(re.find_iter(&text), |m| (m.start(), m.end()));
+                let items = found.map(|m| m.map(|m| Value::text(m.as_str()))).collect::<Result<_, _>>();
+                texts(items.map_err(|work| refuse(&refusal, work))?)
+            }
             2.0 => {
                 let caps = re.captures(&text).ok_or(XlError::NA)?;
                 let groups: Vec<Value> =
@@ -297,10 +302,13 @@ fn regex_replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         let re = &pattern.regex;
         let replacement = a.text(2)?;
         let occurrence = a.num_or(3, 0.0)?.trunc();
+        let mut searches = pattern.searches(&text);
+        let whole = |caps: &regex::Captures| caps.get(0).map_or((0, 0), |m| (m.start(), m.end()));
+        let found = searches.charged(re.captures_iter(&text), whole);
+        let matches = found.collect::<Result<Vec<_>, _>>().map_err(|work| refuse(&refusal, work))?;
         if occurrence == 0.0 {
-            return Ok(Value::text(re.replace_all(&text, &*replacement).into_owned()));
+            return Ok(Value::text(replaced_all(&text, &matches, &replacement)));
         }
-        let matches: Vec<_> = re.captures_iter(&text).collect();
         let index =
             if occurrence > 0.0 { occurrence as usize - 1 } else { matches.len().wrapping_sub((-occurrence) as usize) };
         let Some(caps) = matches.get(index) else { return Ok(Value::Text(text)) };
@@ -311,6 +319,21 @@ fn regex_replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         Ok(Value::text(out))
     });
     explained(ctx, "REGEXREPLACE", refusal, result)
+}
+
+/// `text` with each match replaced, `$1` and `${name}` naming its groups (the crate's
+/// `replace_all`, its matches found within the work limit).
+fn replaced_all(text: &str, matches: &[regex::Captures], replacement: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut copied = 0;
+    for caps in matches {
+        let whole = caps.get(0).expect("a match has group 0");
+        out.push_str(&text[copied..whole.start()]);
+        caps.expand(replacement, &mut out);
+        copied = whole.end();
+    }
+    out.push_str(&text[copied..]);
+    out
 }
 
 #[cfg(test)]
