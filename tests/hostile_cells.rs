@@ -135,6 +135,53 @@ fn a_spill_past_the_workbooks_cells_is_spill_naming_the_limit() {
     assert!(run.stderr.contains("8388608 cells"), "the note names the limit: {}", run.stderr);
 }
 
+// A macro's writes meet the same limit, each refused before its first cell is written, with
+// a run-time error On Error traps: a formula filled over A1:I1000000 (nine million cells,
+// A1 already holding one), a paste of a nine-cell row tiled over A2:I1000000 (they passed
+// it: 9,000,000 cells in 1 GB, and a paste of 12.6 million in 3.1 GB, past the 4 GiB cap
+// with a little more), and blank cells made for the small ranges a million formulas read,
+// which are linked through a range instead once the workbook is full (`=SUM(B1:Q1)`
+// filled down made sixteen a row). Each place past the limit is F932068, by the arithmetic
+// above: the workbook's first nine cells are row 1's.
+#[test]
+fn a_macro_past_the_workbooks_cells_is_refused_naming_the_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("one.csv"), "x\n").unwrap();
+    let source = "Sub Main()
+    On Error Resume Next
+    Range(\"A1:I1000000\").Formula = \"=1\"
+    MsgBox Err.Number & Err.Description & \"|\" & Range(\"A1\").Value & \"|\" & Range(\"I1000000\").Formula
+    Err.Clear
+    Range(\"A1:I1\").Value = 1
+    Range(\"A1:I1\").Copy Range(\"A2:I1000000\")
+    MsgBox Err.Number & Err.Description & \"|\" & Range(\"A2\").Formula
+End Sub
+";
+    std::fs::write(dir.path().join("m.bas"), source).unwrap();
+    let run = capped(dir.path(), &["run", "one.csv", "m.bas"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    // MsgBox writes to stderr, before the run's own notes.
+    let lines: Vec<&str> = run.stderr.lines().filter(|l| !l.starts_with("ncsheet:")).collect();
+    let refusal = "Sheet1!F932068: a workbook holds at most 8388608 cells";
+    assert!(lines.len() == 2 && lines.iter().all(|l| l.contains(refusal)), "{}", run.stderr);
+    assert!(lines[0].ends_with("|x|"), "nothing of the fill is written: {}", lines[0]);
+    assert!(lines[1].ends_with('|'), "nothing of the paste is written: {}", lines[1]);
+    // 600,000 formulas each summing sixteen cells of their own row: 9.6 million blank cells
+    // linked one by one would pass the limit; the sums still follow their cells.
+    std::fs::write(
+        dir.path().join("sums.bas"),
+        "Sub Main()
+    Range(\"A1:A600000\").Formula = \"=SUM(B1:Q1)\"
+    Range(\"Q600000\").Value = 7
+    MsgBox Range(\"A600000\").Value & \" \" & Range(\"A599999\").Value
+End Sub
+",
+    )
+    .unwrap();
+    let run = capped(dir.path(), &["run", "one.csv", "sums.bas"]);
+    assert_eq!((run.code, run.stderr.lines().next()), (0, Some("7 0")), "{}", run.stderr);
+}
+
 #[test]
 fn a_csv_text_longer_than_a_cell_holds_is_refused_naming_the_cell() {
     let dir = tempfile::tempdir().unwrap();

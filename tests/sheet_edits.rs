@@ -690,3 +690,55 @@ fn a_name_with_a_relative_reference_still_moves_its_absolute_ones() {
     assert_eq!(wb.value(1, at("B1")), n(150.0));
     assert_eq!(wb.value(1, at("B3")), n(50.0));
 }
+
+// Issue 30: an insertion wrote each moved cell at a new place and kept the cell it left,
+// blank, so a loop of `Columns(1).Insert` before a full column made a million cells a turn
+// and passed the workbook's cell limit (docs/limits.md) in nine turns. The places an edit
+// empties are reused where the moved cells land: the cells hold where Excel puts them (100
+// columns right and 100 rows down, CW101:CW1100; the sum of 1..1000 is 500,500), and the
+// workbook holds no more cells than before the loop.
+#[test]
+fn insertions_in_a_loop_keep_the_cells_they_began_with() {
+    let mut wb = Workbook::with_sheet();
+    for i in 1..=1000 {
+        set(&mut wb, 0, &format!("A{i}"), &i.to_string());
+    }
+    set(&mut wb, 0, "B1", "=SUM(A1:A1000)+A1");
+    let cells = wb.cell_count();
+    for _ in 0..100 {
+        wb.shift_cells(0, SheetEdit::columns(0, 1, true)).unwrap();
+        wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap();
+    }
+    assert_eq!(wb.value(0, at("CW101")), n(1.0));
+    assert_eq!(wb.value(0, at("CW1100")), n(1000.0));
+    assert_eq!(wb.formula(0, at("CX101")).as_deref(), Some("=SUM(CW101:CW1100)+CW101"));
+    assert_eq!(wb.value(0, at("CX101")), n(500_501.0));
+    assert_eq!(wb.cell_count(), cells, "the insertions made cells");
+    // Deleting them again leaves the sheet as it began.
+    for _ in 0..100 {
+        wb.shift_cells(0, SheetEdit::columns(0, 1, false)).unwrap();
+        wb.shift_cells(0, SheetEdit::rows(0, 1, false)).unwrap();
+    }
+    assert_eq!(wb.formula(0, at("B1")).as_deref(), Some("=SUM(A1:A1000)+A1"));
+    assert_eq!(wb.value(0, at("B1")), n(500_501.0));
+    assert_eq!(wb.cell_count(), cells);
+}
+
+// The place a reused cell leaves is still an edited place: a csv saved after `Rows(1).Insert`
+// has the empty row Excel inserts above the old first row (the csv's own text is kept for
+// the places not edited, so a place forgotten with its cell would keep its old "1").
+#[test]
+fn a_csv_saved_after_an_insertion_has_the_inserted_row_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = dir.path().join("three.csv");
+    std::fs::write(&book, "1\n2\n3\n").unwrap();
+    let macro_file = dir.path().join("m.bas");
+    std::fs::write(&macro_file, "Sub Main()\n    Rows(1).Insert\nEnd Sub\n").unwrap();
+    let saved = dir.path().join("saved.csv");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["run".as_ref(), book.as_os_str(), macro_file.as_os_str(), "--save".as_ref(), saved.as_os_str()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read_to_string(&saved).unwrap(), "\n1\n2\n3\n");
+}

@@ -8,7 +8,7 @@ use std::rc::Rc;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
-use crate::workbook::{Visibility, MAX_SHEETS};
+use crate::workbook::{Visibility, WorkbookError, MAX_CELLS, MAX_SHEETS};
 
 use super::ast::{Link, Span};
 use super::interp::{Fault, Interp, Run};
@@ -380,6 +380,8 @@ impl Interp<'_, '_> {
         if cells > MAX_PASTE {
             return Err(self.fault_at(span, format!("pasting {cells} cells at once is more than a macro may")));
         }
+        let room = self.room_to_paste((from, source), (to, area), how);
+        room.map_err(|e| self.fault_at(span, super::interp::one_line(&e)))?;
         // Everything is read before anything is written: the areas may overlap.
         let mut items = Vec::with_capacity(cells as usize);
         let mut look_pairs = Vec::with_capacity(if looks { cells as usize } else { 0 });
@@ -415,6 +417,35 @@ impl Interp<'_, '_> {
         drop(wb);
         self.copy_looks(from, to, &look_pairs);
         Ok(())
+    }
+}
+
+impl Interp<'_, '_> {
+    /// Refuses a paste past the workbook's cell limit before anything is read or written:
+    /// each cell of `area` whose source holds a value (or, pasting inputs, a formula) makes a
+    /// cell where there is none.
+    fn room_to_paste(
+        &self,
+        (from, source): (SheetId, Rect),
+        (to, area): (SheetId, Rect),
+        how: Paste,
+    ) -> Result<(), WorkbookError> {
+        let wb = self.wb.borrow();
+        let cells = area.rows() as u64 * area.cols() as u64;
+        if wb.cell_count() as u64 + cells <= MAX_CELLS as u64 {
+            return Ok(());
+        }
+        let source_of = |q: Pos| {
+            let (row, col) = (q.row - area.first.row, q.col - area.first.col);
+            Pos::new(source.first.row + row % source.rows(), source.first.col + col % source.cols())
+        };
+        let filled = |q: &Pos| {
+            let p = source_of(*q);
+            (how == Paste::Inputs && wb.is_formula(from, p)) || !wb.value(from, p).is_blank()
+        };
+        let rows = area.first.row..=area.last.row;
+        let places = rows.flat_map(|row| (area.first.col..=area.last.col).map(move |col| Pos::new(row, col)));
+        wb.room_for_all(to, places.filter(filled))
     }
 }
 

@@ -347,6 +347,18 @@ impl Interp<'_, '_> {
             })
             .collect();
         let width = (right - left + 1) as usize;
+        // A row moving where its cells have none makes them: past the workbook's cell
+        // limit, the sort is refused before a cell is written.
+        let filled =
+            order.iter().enumerate().filter_map(|(to, &from)| Some((to, rows[from.filter(|&f| f != to)?].as_ref()?)));
+        let places = filled.flat_map(|(to, row)| {
+            let kept = row.iter().enumerate().filter(|(_, c)| !matches!(c, Content::Value(Value::Blank)));
+            kept.map(move |(i, _)| Pos::new(first + to as u32, left + i as u32))
+        });
+        self.wb
+            .borrow()
+            .room_for_all(sheet, places)
+            .map_err(|e| self.fault_at(link.span, super::interp::one_line(&e)))?;
         let mut wb = self.book_mut()?;
         for (to, &from) in order.iter().enumerate() {
             if from == Some(to) {

@@ -256,12 +256,17 @@ struct ChangeLog {
     sheets: bool,
     /// Cells were inserted or deleted ([`Workbook::shift_cells`]).
     shifted: bool,
+    /// Places an edited cell left when an insertion or deletion reused it elsewhere
+    /// (`shift.rs`): still edited places, though no cell is there to name them.
+    left: Vec<(SheetId, Pos)>,
 }
 
 /// Cells edited since [`Workbook::start_journal`], each with the input it held before.
 #[derive(Default)]
 struct Journal {
-    seen: std::collections::HashSet<u32>,
+    /// The places written down: a cell an insertion reuses elsewhere (`shift.rs`) is written
+    /// down again at its new place.
+    seen: std::collections::HashSet<(SheetId, Pos)>,
     before: Vec<(SheetId, Pos, String)>,
     /// The sheets deleted, with what an undo needs to bring each back (`delete_sheet.rs`).
     deleted: Vec<delete_sheet::DeletedSheet>,
@@ -580,11 +585,43 @@ impl Workbook {
     }
 
     /// Whether the workbook has room for a cell at `pos`: it has one there already, or it holds
-    /// fewer than [`MAX_CELLS`]. Every path that makes cells in bulk asks first (the readers,
-    /// a macro's writes; [`Workbook::set_input_deferred`] and [`Workbook::set_input`] ask
-    /// themselves); a formula's links may make a few more blank cells past it, never many.
+    /// fewer than [`MAX_CELLS`]. Every path that makes cells asks it or
+    /// [`Workbook::room_for_all`] first (the readers, a macro's writes, pastes and sorts;
+    /// [`Workbook::set_input_deferred`] and [`Workbook::set_input`] ask themselves); a
+    /// formula's links make blank cells only while there is room (`links.rs`), a spill asks
+    /// before it spills, and an insertion or deletion reuses the cells it empties (`shift.rs`).
     pub fn room_for(&self, sheet: SheetId, pos: Pos) -> Result<(), WorkbookError> {
         self.room_after(sheet, pos, 0)
+    }
+
+    /// [`Workbook::room_for`] of every place of `places` on `sheet` (distinct places, in the
+    /// order they are to be written), asked before the first is written, so that an edit
+    /// past the limit is refused whole: the error names the first place with no room.
+    pub fn room_for_all(&self, sheet: SheetId, places: impl IntoIterator<Item = Pos>) -> Result<(), WorkbookError> {
+        let mut count = self.cells.len();
+        for pos in places {
+            if self.sheets[sheet as usize].get(pos).is_some() {
+                continue;
+            }
+            if count >= MAX_CELLS {
+                return Err(WorkbookError::TooManyCells(self.cell_name(sheet, pos)));
+            }
+            count += 1;
+        }
+        Ok(())
+    }
+
+    /// [`Workbook::room_for_all`] of every cell of `rect`, row by row (a formula filled over
+    /// it, a paste): quick when the workbook has room for the whole rectangle.
+    pub fn room_for_rect(&self, sheet: SheetId, rect: Rect) -> Result<(), WorkbookError> {
+        if self.cells.len() as u64 + rect.rows() as u64 * rect.cols() as u64 <= MAX_CELLS as u64 {
+            return Ok(());
+        }
+        let rows = rect.first.row..=rect.last.row;
+        self.room_for_all(
+            sheet,
+            rows.flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col))),
+        )
     }
 
     /// [`Workbook::room_for`] when `waiting` more cells are to be made later (a reader's
@@ -663,9 +700,17 @@ impl Workbook {
         };
         let mut formulas_replaced = cells(&mut log.had_formula.iter().copied());
         formulas_replaced.retain(|&(sheet, pos)| !self.is_formula(sheet, pos));
+        let with_left = |mut places: Vec<(SheetId, Pos)>| {
+            if !log.left.is_empty() {
+                places.extend_from_slice(&log.left);
+                places.sort_by_key(|&(s, p)| (s, p.row, p.col));
+                places.dedup();
+            }
+            places
+        };
         Some(Changes {
-            inputs: cells(&mut log.inputs.iter().copied()),
-            values: cells(&mut log.values.ids()),
+            inputs: with_left(cells(&mut log.inputs.iter().copied())),
+            values: with_left(cells(&mut log.values.ids())),
             names: log.names,
             sheets: log.sheets,
             shifted: log.shifted,
@@ -698,13 +743,13 @@ impl Workbook {
     /// Writes down the input of cell `id` before its first edit, when a journal is kept.
     fn journal_input(&mut self, id: u32) {
         let Some(journal) = &self.journal else { return };
-        if journal.seen.contains(&id) {
+        let (sheet, pos) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
+        if journal.seen.contains(&(sheet, pos)) {
             return;
         }
-        let (sheet, pos) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
         let before = self.input(sheet, pos).unwrap_or_default();
         if let Some(journal) = &mut self.journal {
-            journal.seen.insert(id);
+            journal.seen.insert((sheet, pos));
             journal.before.push((sheet, pos, before));
         }
     }
@@ -1050,17 +1095,21 @@ impl Workbook {
             return id;
         }
         let id = self.cells.len() as u32;
-        // A cell made inside a spill's tail holds the tail's value, as the spill's own.
-        let (value, owner) = match self.spill.tail_at(sheet, pos) {
-            Some((anchor, tail)) => (tail.fill.clone(), Some(anchor)),
-            None => (Value::Blank, None),
-        };
-        self.cells.push(Cell { value, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+        self.cells.push(Cell { value: Value::Blank, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+        self.place_cell(id, sheet, pos);
+        id
+    }
+
+    /// Puts blank cell `id` at `pos`, where no cell is.
+    fn place_cell(&mut self, id: u32, sheet: SheetId, pos: Pos) {
+        let cell = &mut self.cells[id as usize];
+        (cell.sheet, cell.pos) = (sheet, pos);
         self.sheets[sheet as usize].set(pos, id);
-        if let Some(anchor) = owner {
+        // A cell made inside a spill's tail holds the tail's value, as the spill's own.
+        if let Some((anchor, tail)) = self.spill.tail_at(sheet, pos) {
+            self.cells[id as usize].value = tail.fill.clone();
             self.spill.own(id, anchor);
         }
-        id
     }
 
     fn store_value(&mut self, id: u32, value: Value) {

@@ -156,6 +156,21 @@ impl Sheet {
         column[row] = id;
     }
 
+    /// Forgets the cell at `pos` (an insertion or deletion reusing it elsewhere); a column
+    /// left empty gives its memory back, so inserting columns before a full one in a loop
+    /// does not keep a million empty slots for each column it passed.
+    pub fn unset(&mut self, pos: Pos) {
+        let Some(column) = self.columns.get_mut(pos.col as usize) else { return };
+        let Some(slot) = column.get_mut(pos.row as usize) else { return };
+        *slot = NO_CELL;
+        while column.last() == Some(&NO_CELL) {
+            column.pop();
+        }
+        if column.is_empty() {
+            *column = Vec::new();
+        }
+    }
+
     /// Cell ids in `rect`, row by row.
     pub fn for_each_in(&self, rect: Rect, f: &mut dyn FnMut(Pos, u32)) {
         let last_col = (rect.last.col as usize).min(self.columns.len().saturating_sub(1));

@@ -219,6 +219,7 @@ impl Workbook {
         }
         self.check_arrays_whole(sheet, &edit)?;
         let mut moves = self.moves(sheet, &edit)?;
+        let idle = self.idle_cells(sheet, &edit);
         let free = self.free_slots(&moves);
         for &(id, _, _) in &moves {
             let c = &self.cells[id as usize];
@@ -232,6 +233,7 @@ impl Workbook {
             }
         }
         self.store_rewrites(&mut moves, &free);
+        self.place_moved_cells(&moves, idle);
         // Before the moved cells are written: each grows the extent to where it went, and
         // moving the extent after that would move its last line twice.
         self.move_extent(sheet, &edit);
@@ -264,6 +266,74 @@ impl Workbook {
         self.names_unlinked = true;
         self.recalculate();
         Ok(())
+    }
+
+    /// Gives every moved cell a cell where it lands, before any is written (a formula
+    /// written links the cells it reads, and would make them where a moved cell is still to
+    /// come). Where no cell is, it takes one the edit leaves empty for good: a moving cell,
+    /// once cleared, or a blank one in the moving part (`idle`), at a place nothing moves
+    /// into and holding nothing kept by cell (a formula, text that did not parse, a note, a
+    /// place in a spill). So an edit makes no more cells than it empties: a loop of
+    /// `Columns(1).Insert` before a full column made a million cells a turn, and passed the
+    /// workbook's cell limit in nine turns.
+    fn place_moved_cells(&mut self, moves: &[Move], idle: Vec<u32>) {
+        let arriving: FxMap<(SheetId, Pos), ()> =
+            moves.iter().filter_map(|&(id, to, _)| to.map(|to| ((self.cells[id as usize].sheet, to), ()))).collect();
+        let reusable = |id: &u32| {
+            let c = &self.cells[*id as usize];
+            c.formula == NO_FORMULA
+                && c.value.is_blank()
+                && !arriving.contains_key(&(c.sheet, c.pos))
+                && !self.bad_inputs.contains_key(id)
+                && !self.notes.contains_key(id)
+                && self.spill.owner(*id).is_none()
+        };
+        let mut spare: Vec<u32> = moves.iter().map(|&(id, _, _)| id).chain(idle).filter(reusable).collect();
+        for &(id, to, _) in moves {
+            let s = self.cells[id as usize].sheet;
+            let Some(to) = to else { continue };
+            if self.sheets[s as usize].get(to).is_some() {
+                continue;
+            }
+            let Some(cell) = spare.pop() else { return };
+            self.reuse_cell(cell, s, to);
+        }
+    }
+
+    /// The blank cells of `sheet` the edit moves or deletes (a formula's link made them),
+    /// read before the moving cells are cleared: nothing is written to their place, so
+    /// [`Workbook::place_moved_cells`] may reuse them.
+    fn idle_cells(&self, sheet: SheetId, edit: &SheetEdit) -> Vec<u32> {
+        let idle = |(id, c): (usize, &Cell)| {
+            let id = id as u32;
+            (c.sheet == sheet
+                && c.formula == NO_FORMULA
+                && c.value.is_blank()
+                && edit.moved(c.pos) != Some(c.pos)
+                && self.sheets[sheet as usize].get(c.pos) == Some(id))
+            .then_some(id)
+        };
+        self.cells.iter().enumerate().filter_map(idle).collect()
+    }
+
+    /// Moves emptied cell `id` ([`Workbook::place_moved_cells`]) to `to`, where no cell is:
+    /// the place it leaves reads as blank without it. Its dependents are linked again when
+    /// the edit rebuilds the graph. The change log keeps the place it left as edited (a csv
+    /// saves the places edited), the journal the place it takes as blank before (an undo
+    /// empties it).
+    fn reuse_cell(&mut self, id: u32, sheet: SheetId, to: Pos) {
+        let (left_sheet, left) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
+        self.sheets[left_sheet as usize].unset(left);
+        if let Some(log) = self.changes.as_mut().filter(|log| log.inputs.contains(&id)) {
+            log.left.push((left_sheet, left));
+        }
+        if let Some(journal) = self.journal.as_mut() {
+            if journal.seen.insert((sheet, to)) {
+                journal.before.push((sheet, to, String::new()));
+            }
+        }
+        self.cells[id as usize].dependents = Deps::None;
+        self.place_cell(id, sheet, to);
     }
 
     /// The stored formulas the rewritten ones may take over: a formula every one of whose
