@@ -739,3 +739,16 @@ fn a_workbooks_application_reaches_the_worksheet_functions() {
     );
     assert_eq!(out, vec![" 7  2 "]);
 }
+
+/// "Windows.Application property", "Worksheet.Application property": each "Returns an
+/// Application object that represents the Microsoft Excel application", so a worksheet function
+/// reached through the windows or the active sheet is Application's own. A real module
+/// (TrimSpacesFx, session 26's h5/r13) writes `Windows.Application.WorksheetFunction.Trim(…)`;
+/// "Trim" (Excel's TRIM) keeps one space between words.
+#[test]
+fn the_windows_and_sheets_application_reaches_the_worksheet_functions() {
+    let out = printed(
+        "    Debug.Print Windows.Application.WorksheetFunction.Trim(\"  a   b \") & \"|\"; ActiveSheet.Application.Max(4, 9)",
+    );
+    assert_eq!(out, vec!["a b| 9 "]);
+}

@@ -815,11 +815,18 @@ impl Build<'_> {
     fn qualified_call(&self, pair: &Pair<Rule>, path: &mut Path) -> Res<Option<Expr>> {
         let names: Vec<String> = path.links.iter().map(|l| lower_bare(&l.name)).collect();
         // `ThisWorkbook.Application.WorksheetFunction.Atan2(…)`: a workbook's Application is
-        // the one Application ("Workbook.Application property").
+        // the one Application ("Workbook.Application property"), as is that of the other
+        // objects Excel names globally ("Windows.Application property", "Worksheet.Application
+        // property" …: "Returns an Application object that represents the Microsoft Excel
+        // application"), none of which can fail to exist.
         let through_workbook = names.len() > 2
-            && matches!(names[0].as_str(), "thisworkbook" | "activeworkbook")
+            && matches!(
+                names[0].as_str(),
+                "thisworkbook" | "activeworkbook" | "activesheet" | "activewindow" | "windows"
+            )
             && names[1] == "application"
-            && path.links[0].args.is_none();
+            && path.links[0].args.is_none()
+            && !self.is_var(&path.links[0].name);
         let skip = usize::from(through_workbook);
         let qualifier_len = skip
             + match names[skip..].iter().map(String::as_str).collect::<Vec<_>>().as_slice() {
