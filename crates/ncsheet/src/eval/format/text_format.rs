@@ -416,8 +416,10 @@ fn parse_section(text: &str, dialect: Dialect) -> XlResult<Section> {
                 Tok::Date(DatePart::DayOfYear)
             }
             'd' if dialect == Dialect::Vba
-                && chars[i - 1..].iter().take_while(|x| x.eq_ignore_ascii_case(&'d')).count() >= 5 =>
+                && chars[i - 1..].iter().take(5).take_while(|x| x.eq_ignore_ascii_case(&'d')).count() == 5 =>
             {
+                // Five letters decide it: counting the whole run at each group of six made a
+                // run of 200,000 `d` take 15 s.
                 // `ddddd` the system's short date, `dddddd` its long date.
                 let run = chars[i - 1..].iter().take(6).take_while(|x| x.eq_ignore_ascii_case(&'d')).count();
                 i += run - 1;
@@ -831,7 +833,9 @@ fn settle_date_tokens(section: &mut Section) -> XlResult<()> {
 }
 
 fn is_minute(tokens: &[Tok], date_positions: &[usize], i: usize) -> bool {
-    let k = date_positions.iter().position(|&p| p == i).unwrap_or(0);
+    // The positions are in order: a search, where a scan made a code of 250,000 months
+    // and days quadratic (a style's format code has no length limit).
+    let k = date_positions.binary_search(&i).unwrap_or(0);
     let before = k
         .checked_sub(1)
         .map(|j| &tokens[date_positions[j]])
@@ -1605,5 +1609,18 @@ mod tests {
         assert_eq!(fmt(1.25, "[h]:mm"), "30:00");
         assert_eq!(fmt(60.0, "yyyy-mm-dd"), "1900-02-29");
         assert!(NumberFormat::parse("mm###").is_err());
+    }
+
+    #[test]
+    fn long_date_codes_are_read_in_linear_time() {
+        // A style's format code has no length limit. Each month of `m d m d …` looked for its
+        // place among all the code's date letters, and each group of six `d` in VBA's Format
+        // counted the whole run after it: 250,000 months took minutes, 400,000 `d` 10 s (not
+        // timed here: a quadratic reading again is a hang the test run's limit ends). Serial
+        // 1 is 1 January 1900: `m` the month and `d` the day without a leading zero.
+        assert_eq!(fmt(1.0, &"m d ".repeat(250_000)), "1 1 ".repeat(250_000));
+        // `dddddd` is VBA's long date (English, United States), six letters at a time.
+        let long = NumberFormat::parse_vba(&"d".repeat(600_000)).unwrap().format_vba_number(1.0, &|_| (1, 1)).unwrap();
+        assert_eq!(long, "Sunday, December 31, 1899".repeat(100_000));
     }
 }
