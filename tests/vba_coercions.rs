@@ -163,7 +163,8 @@ fn an_array_is_no_operand() {
          \x20   v = Range(\"A1:A2\") < 5: Debug.Print Err.Number;: Err.Clear\n\
          \x20   v = a * 2: Debug.Print Err.Number;: Err.Clear\n\
          \x20   v = a & \"x\": Debug.Print Err.Number;: Err.Clear\n\
+         \x20   v = -a: Debug.Print Err.Number;: Err.Clear\n\
          \x20   v = Range(\"A1:A1\") + 1: Debug.Print Err.Number; v",
     );
-    assert_eq!(printed, [" 13  13  13  13  0  2 "]);
+    assert_eq!(printed, [" 13  13  13  13  13  0  2 "]);
 }

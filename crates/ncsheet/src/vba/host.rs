@@ -315,6 +315,9 @@ impl Host for Interp<'_, '_> {
     fn negation(&self, operand: &Expr, result: Value) -> Value {
         self.forget_widening(operand);
         self.forget_exact(operand, [&result; 3]);
+        if self.refused_array_negation(operand, &result) {
+            return Value::Error(XlError::Value);
+        }
         match self.long_long_negation(operand, &result) {
             Some(Ok(v)) => return v,
             Some(Err(fault)) => {

@@ -143,6 +143,24 @@ impl Interp<'_, '_> {
         true
     }
 
+    /// Type mismatch (run-time error 13) of `-operand` on an array (its `result` an array):
+    /// negation is defined on single values as the binary operators are ([MS-VBAL] 5.6.9.3.1;
+    /// see [`Interp::refused_array_operand`]). The fault is parked here, out of the caller's
+    /// frame.
+    #[inline(never)]
+    pub(super) fn refused_array_negation(&self, operand: &Expr, result: &Value) -> bool {
+        if !matches!(result, Value::Array(_)) {
+            return false;
+        }
+        let shown = self.quoted_source(operand.span.start, operand.span.end, "the operand");
+        let (code, name) = TYPE_MISMATCH;
+        let mut fault =
+            self.fault_at(self.expr_span(operand), format!("{name} (run-time error {code}): -{shown} is an array"));
+        fault.code = code;
+        self.park(fault);
+        true
+    }
+
     /// Type mismatch (run-time error 13) of `-operand`, which gave the error value `result`:
     /// the operand was a text that is no number or an error value ([MS-VBAL] 5.6.9.3.1, the
     /// operand is let-coerced to a number).
