@@ -406,6 +406,11 @@ fn an_argument_outside_the_domain_raises_error_5() {
         "Log(0)",
         "Round(2.5, -1)",
         "Round(2.5, 23)",
+        // Past 99 decimals ncsheet refuses as VBA refuses an argument out of range (the
+        // "FormatNumber function" page names no largest count); it was an Error value.
+        "FormatNumber(1, 100)",
+        "FormatPercent(1, 32767)",
+        "FormatCurrency(1, 1000000000)",
     ] {
         let out = printed(&format!(
             "    Dim v\n    v = \"kept\"\n    On Error Resume Next\n    v = {f}\n    Debug.Print Err.Number; Err.Description; \" \"; v"

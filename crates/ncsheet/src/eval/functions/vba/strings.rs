@@ -422,7 +422,10 @@ fn format_in_style(ctx: &mut Ctx, args: &[Expr], style: NumberStyle) -> XlResult
     let digits = whole_arg(ctx, name, args, 1, -1.0)?;
     let digits = if digits == -1.0 { 2.0 } else { digits };
     if !(0.0..=99.0).contains(&digits) {
-        return Err(XlError::Value);
+        // A run-time error as VBA's Format functions raise for an argument out of range
+        // ("Invalid procedure call or argument", 5); an Error value here printed as
+        // "Error 2015" and the macro went on with it.
+        return Err(invalid_call(ctx, name, "NumDigitsAfterDecimal is -1 (the regional default) or 0 to 99"));
     }
     let leading = tristate(ctx, name, args, 2, true)?;
     let parens = tristate(ctx, name, args, 3, style == NumberStyle::Currency)?;
