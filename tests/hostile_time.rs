@@ -434,6 +434,8 @@ fn text_and_array_work_counts_against_the_statement_limit() {
         "t = Join(v, \",\")",
         "w = Filter(v, \"b\")",
         "t = StrConv(s, vbUpperCase)",
+        "w = StrConv(s, vbFromUnicode)",
+        "t = Format(s, \"!\")",
         "t = Space(100000)",
         "n = Application.WorksheetFunction.Sum(Range(\"A1:A50000\"))",
     ] {
@@ -443,6 +445,19 @@ fn text_and_array_work_counts_against_the_statement_limit() {
         assert!(e.message.contains("text and array work counts too"), "{work}: {e}");
         assert!(e.span.is_some_and(|s| (5..=8).contains(&s.line)), "{work}: {:?}", e.span);
     }
+}
+
+/// Format reads its format whole however short the text it makes: 100,000 `#` format 1 as
+/// "1" ("Format function": `#` shows a digit or nothing), 1,562 statements' worth of text
+/// work each time at 64 characters a statement (docs/limits.md), so a hundred turns (156,250)
+/// pass a limit of 100,000 that the loop's own 200 statements stay far below.
+#[test]
+fn a_long_format_with_a_short_result_counts_what_it_reads() {
+    let body = "    Dim p As String, t As String, i As Long\n    p = String(100000, \"#\")\n    \
+                For i = 1 To 100\n        t = Format(1, p)\n    Next i";
+    let e = stops_within(body, 100_000);
+    assert_eq!(e.kind, ErrorKind::Limit, "{e}");
+    assert!(e.message.contains("text and array work counts too"), "{e}");
 }
 
 /// `ReDim Preserve` of a two-dimensional array copies every item each time (issue 30): a

@@ -1329,6 +1329,9 @@ fn format(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Value> {
     let has_format = args.get(1).is_some_and(|e| e.kind != ExprKind::Missing);
     let values = if has_format { args.iter().map(|a| ctx.eval(a)).collect() } else { shown_values(ctx, args).0 };
+    // The text and its format are read whole however short the result (100,000 `#` format 1
+    // as "1").
+    ctx.charge_texts(&values);
     // "Format function": a Date without a format shows as General Date, the short date
     // and the long time as the system sets them.
     if let Some(shown) = date_shown(ctx, args, &values).or_else(|| long_long_shown(ctx, args, &values, false)) {
