@@ -560,7 +560,19 @@ fn a_project_of_many_modules_is_parsed_once_and_one_broken_module_leaves_the_oth
 
     let before = ncsheet::vba::work_done();
     let doc = ncsheet::document::Document::open_file(&path, &ncsheet::document::OpenOptions::named(&path)).unwrap();
-    let parsed = (ncsheet::vba::work_done() - before).source_parsed;
+    // A run asks for the project three times more (its module, the others, the classes).
+    for _ in 0..3 {
+        assert_eq!(doc.vba_project().unwrap().unwrap().modules.len(), MODULES);
+    }
+    let work = ncsheet::vba::work_done() - before;
+    let parsed = work.source_parsed;
+    // The project is read from the file's bytes once, where a run read it five times.
+    assert_eq!(work.projects_read, 1);
+    // Each item of each parse finds its module by bisection, 9 steps among 300 modules (about
+    // 2,400 lookups, 21,600 steps), where a scan from the last module went over 150 of them on
+    // average (about 360,000).
+    let steps = work.parts_searched;
+    assert!(steps <= 9 * 10 * MODULES as u64, "{steps} steps to find modules");
     let wb = doc.workbook();
     assert_eq!(number(wb, "A1"), 2.0);
     assert_eq!(number(wb, "A2"), 302.0);
@@ -572,4 +584,59 @@ fn a_project_of_many_modules_is_parsed_once_and_one_broken_module_leaves_the_oth
     // read alone to find the broken one: 3 times the source, where each module parsed with the
     // others read it 300 times.
     assert!(parsed <= 4 * source_bytes as u64, "{parsed} bytes parsed for a project of {source_bytes}");
+}
+
+/// A module of 2,000 `Public Const` lines and a module reading one of them from 200 cells:
+/// each call ran all 2,000 declarations again (20,000 lines and 2,000 cells: 40 million
+/// declarations, 49 s). The declarations now run once per recalculation, so a budget of
+/// 20,000 statements holds the recalculation: 2,000 declarations, then each call's few
+/// statements (each call running them all would stop at its tenth call, the rest `#VALUE!`).
+/// Each call still starts from the module's state as declared ([MS-VBAL] 5.2.3.1.4: a
+/// variable's initial value is its declared type's; ncsheet runs each cell's call as its own
+/// program, so that no cell's value depends on the order the cells are computed in): `Mark`
+/// changes a module variable and a module array's item, and the next call sees neither.
+/// Worked out by hand: Plus(r) = r + 1999; Mark(i) = 1 * 100 + 7.
+#[test]
+fn module_level_declarations_run_once_per_recalculation_and_each_call_starts_from_them() {
+    let mut consts: String = (0..2000).map(|i| format!("Public Const C{i} As Long = {i}\r\n")).collect();
+    consts.push_str(
+        "Dim seen(1 To 3) As Long\r\nDim calls As Long\r\n\
+         Public Function Mark(i)\r\n    calls = calls + 1\r\n    seen(i) = seen(i) + C7\r\n\
+         \x20   Mark = calls * 100 + seen(1) + seen(2) + seen(3)\r\nEnd Function\r\n",
+    );
+    let plus = "Public Function Plus(x)\r\n    Plus = x + C1999\r\nEnd Function\r\n";
+    let mut cells: Vec<(String, String)> = (1..=200).map(|r| (format!("A{r}"), "=Plus(ROW())".to_string())).collect();
+    cells.extend((1..=3).map(|i| (format!("B{i}"), format!("=Mark({i})"))));
+    let mut wb = Workbook::with_sheet();
+    let limits = &mut wb.settings_mut().functions;
+    limits.statements_per_recalculation = 20_000;
+    for (cell, text) in &cells {
+        wb.set_input(0, at(cell), text).unwrap();
+    }
+    let module = |name: &str, source: &str| ProjectModule {
+        name: name.into(),
+        stream: name.into(),
+        kind: STANDARD,
+        source: source.into(),
+    };
+    let project = VbaProject {
+        code_page: 1252,
+        modules: vec![module("Consts", &consts), module("Module2", plus)],
+        protection: None,
+    };
+    assert!(ncsheet::vba::install_functions(&mut wb, &project, RunOptions::default()).is_empty());
+    for r in 1..=200 {
+        assert_eq!(
+            number(&wb, &format!("A{r}")),
+            f64::from(r) + 1999.0,
+            "A{r}: {:?}",
+            wb.notes(0, at(&format!("A{r}")))
+        );
+    }
+    for i in 1..=3 {
+        assert_eq!(number(&wb, &format!("B{i}")), 107.0, "B{i}");
+    }
+    // An edit is a new recalculation, with its own budget and its own declarations.
+    wb.set_input(0, at("C1"), "=Plus(0)").unwrap();
+    assert_eq!(number(&wb, "C1"), 1999.0);
 }

@@ -209,17 +209,31 @@ pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModu
 
 /// The VBA project of a workbook file; a workbook without one is an error saying so.
 pub fn open_project(file: &Path) -> Result<VbaProject> {
-    let opened = ncsheet::document::Document::open_file(file, &super::open_options(None))?.into_opened();
-    project_in(file, opened.layout.as_ref())
+    let doc = ncsheet::document::Document::open_file(file, &super::open_options(None))?;
+    WorkbookProject { file, read: doc.vba_project() }.get().cloned()
 }
 
-/// The VBA project of workbook `file` already open (its parts `layout`), read again from its
-/// bytes rather than by opening the workbook again (which parses every module again too).
-pub fn project_in(file: &Path, layout: Option<&ncsheet::io::xlsx::Layout>) -> Result<VbaProject> {
-    let Some(bytes) = layout.and_then(|l| l.vba_project.as_deref()) else {
-        return Err(Error::User(format!("{}: the workbook holds no VBA project (xl/vbaProject.bin)", file.display())));
-    };
-    read_project(bytes).map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))
+/// A workbook's own VBA project as its document read it when it opened (`read`): read once,
+/// for every use of it.
+#[derive(Clone, Copy)]
+pub struct WorkbookProject<'d> {
+    /// The workbook, for messages.
+    pub file: &'d Path,
+    pub read: Option<std::result::Result<&'d VbaProject, &'d ncsheet::vba::ProjectError>>,
+}
+
+impl<'d> WorkbookProject<'d> {
+    /// The project, or why the workbook has none.
+    pub fn get(self) -> Result<&'d VbaProject> {
+        match self.read {
+            Some(Ok(project)) => Ok(project),
+            Some(Err(e)) => Err(Error::User(format!("{}: xl/vbaProject.bin: {e}", self.file.display()))),
+            None => Err(Error::User(format!(
+                "{}: the workbook holds no VBA project (xl/vbaProject.bin)",
+                self.file.display()
+            ))),
+        }
+    }
 }
 
 /// The module a `run` of a workbook's own macros means, and the Sub to call in it:

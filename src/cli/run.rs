@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use ncsheet::io::xlsx::Layout;
 use ncsheet::nc::motion::{self, Rates};
 use ncsheet::nc::{dialect, Block, Machine, Program};
-use ncsheet::vba::project::{read_project, ModuleKind, ProjectModule};
+use ncsheet::vba::project::{ModuleKind, ProjectModule};
 use ncsheet::vba::{self, Document, ErrorKind, RunOptions, RunOutput};
 
 use super::macro_files;
@@ -205,8 +205,10 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         )));
     }
     let mut doc = ncsheet::document::Document::open_file(&args.workbook, &super::open_options(delimiter))?;
-    let code_page = module_code_page(&args, doc.layout());
-    let (file, source, sub, document) = macro_source(&args, doc.layout(), code_page)?;
+    // The project as the document read it when it opened: read once for the whole run.
+    let project = super::macros::WorkbookProject { file: &args.workbook, read: doc.vba_project() };
+    let code_page = module_code_page(&args, project);
+    let (file, source, sub, document) = macro_source(&args, doc.layout(), project, code_page)?;
     let file = &file;
     let options = RunOptions {
         sub,
@@ -226,8 +228,8 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             MachineKind::Lathe => Machine::Lathe,
             MachineKind::Mill => Machine::Mill,
         },
-        project: other_modules(&args, doc.layout(), file, code_page)?,
-        classes: class_modules(&args, doc.layout(), code_page)?,
+        project: other_modules(&args, project, file, code_page)?,
+        classes: class_modules(&args, project, code_page)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
         files: macro_files::access(
             args.out_dir.as_deref(),
@@ -359,9 +361,8 @@ pub(super) fn program_summary(program: &Program, text: &str, dialect: &str, writ
 /// The code page the .bas and .cls files given are read in: --code-page, else the workbook's
 /// own VBA project's (its PROJECTCODEPAGE record, as the VBA editor imports into it), else none,
 /// and a file past ASCII that is not UTF-8 is refused at its first such byte.
-fn module_code_page(args: &RunArgs, layout: Option<&Layout>) -> Option<u16> {
-    let project = || layout.and_then(|l| l.vba_project.as_deref()).and_then(|b| read_project(b).ok());
-    args.code_page.or_else(|| project().map(|p| p.code_page))
+fn module_code_page(args: &RunArgs, project: super::macros::WorkbookProject) -> Option<u16> {
+    args.code_page.or_else(|| project.read.and_then(|p| p.ok()).map(|p| p.code_page))
 }
 
 /// The macro's place (for messages), its source, the Sub to call and the document its module
@@ -369,14 +370,15 @@ fn module_code_page(args: &RunArgs, layout: Option<&Layout>) -> Option<u16> {
 fn macro_source(
     args: &RunArgs,
     layout: Option<&Layout>,
+    project: super::macros::WorkbookProject,
     code_page: Option<u16>,
 ) -> Result<(PathBuf, String, Option<String>, Option<Document>)> {
     if let Some(file) = &args.macro_file {
         let source = super::macros::read_module_text(file, code_page)?;
         return Ok((file.clone(), source, args.sub.clone(), None));
     }
-    let project = super::macros::project_in(&args.workbook, layout)?;
-    let (module, sub) = super::macros::pick_macro(&project, args.sub.as_deref())?;
+    let project = project.get()?;
+    let (module, sub) = super::macros::pick_macro(project, args.sub.as_deref())?;
     let place = args.workbook.join(&module.name);
     let document = document_of(module, layout).map_err(|m| Error::User(format!("{}: {m}", place.display())))?;
     Ok((place, module.source.clone(), sub, document))
@@ -386,7 +388,7 @@ fn macro_source(
 /// compiles a project as one program (none for a .bas file given on its own).
 fn other_modules(
     args: &RunArgs,
-    layout: Option<&Layout>,
+    project: super::macros::WorkbookProject,
     running: &std::path::Path,
     code_page: Option<u16>,
 ) -> Result<Vec<(String, String)>> {
@@ -394,7 +396,7 @@ fn other_modules(
     if args.macro_file.is_some() {
         return Ok(modules);
     }
-    let project = super::macros::project_in(&args.workbook, layout)?;
+    let project = project.get()?;
     let own = running.file_name().and_then(|n| n.to_str()).unwrap_or_default();
     let others = project.modules.iter().filter(|m| m.kind == ModuleKind::Standard && m.name != own);
     modules.extend(others.map(|m| (m.name.clone(), m.source.clone())));
@@ -403,10 +405,14 @@ fn other_modules(
 
 /// The project's class modules: the workbook's own (none for a .bas file given on its own)
 /// and the .cls files given with --module.
-fn class_modules(args: &RunArgs, layout: Option<&Layout>, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
+fn class_modules(
+    args: &RunArgs,
+    project: super::macros::WorkbookProject,
+    code_page: Option<u16>,
+) -> Result<Vec<(String, String)>> {
     let mut classes = given_modules(args, ModuleKind::Class, code_page)?;
     if args.macro_file.is_none() {
-        let project = super::macros::project_in(&args.workbook, layout)?;
+        let project = project.get()?;
         let own = project.modules.iter().filter(|m| m.kind == ModuleKind::Class);
         classes.extend(own.map(|m| (m.name.clone(), m.source.clone())));
     }

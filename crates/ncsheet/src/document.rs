@@ -78,6 +78,9 @@ pub struct Document {
     opened: Opened,
     name: PathBuf,
     csv_delimiter: Option<u8>,
+    /// The workbook's VBA project as read once from its `vbaProject.bin` when the file was
+    /// opened (`None`: it holds none), for its functions and for every macro run on it.
+    project: Option<Result<VbaProject, vba::ProjectError>>,
 }
 
 /// A document could not be opened or saved: the error names the file and the part of it.
@@ -95,8 +98,9 @@ impl Document {
         };
         let mut opened =
             io::open_bytes_limited(bytes, &options.name, format, options.csv_delimiter, options.read_limits)?;
-        install_functions(&mut opened, options.functions.clone());
-        let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter };
+        let project = opened.layout.as_ref().and_then(|l| l.vba_project.as_deref()).map(vba::read_project);
+        install_functions(&mut opened, project.as_ref(), options.functions.clone());
+        let mut doc = Document { opened, name: options.name.clone(), csv_delimiter: options.csv_delimiter, project };
         if let Some(settings) = &options.settings {
             let locale = settings.locale_in_force(doc.opened.workbook.date_system());
             read_csv_fields_in_locale(&mut doc.opened, locale);
@@ -154,10 +158,10 @@ impl Document {
         &self.opened.origin
     }
 
-    /// The workbook's VBA project, read from its bytes (`None`: the file holds none).
-    pub fn vba_project(&self) -> Option<Result<VbaProject, vba::ProjectError>> {
-        let bytes = self.layout()?.vba_project.as_ref()?;
-        Some(vba::read_project(bytes))
+    /// The workbook's VBA project, as read when the file was opened (`None`: the file holds
+    /// none).
+    pub fn vba_project(&self) -> Option<Result<&VbaProject, &vba::ProjectError>> {
+        self.project.as_ref().map(Result::as_ref)
     }
 
     /// A cell by its name as a user types it (`B8`, `Outer!B8`, a defined name), on the first
@@ -368,17 +372,21 @@ impl Document {
 /// Makes the public Functions of the workbook's VBA project callable from its cells; a
 /// project that cannot be read, or a module that does not parse whose functions a cell
 /// calls, becomes a note (those cells stay `#NAME?`).
-fn install_functions(opened: &mut Opened, options: RunOptions) {
+fn install_functions(
+    opened: &mut Opened,
+    project: Option<&Result<VbaProject, vba::ProjectError>>,
+    options: RunOptions,
+) {
     let Some(layout) = opened.layout.as_ref() else { return };
-    let Some(bytes) = layout.vba_project.as_ref() else { return };
-    let project = match vba::read_project(bytes) {
-        Ok(p) => p,
-        Err(e) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
+    let project = match project {
+        None => return,
+        Some(Ok(p)) => p,
+        Some(Err(e)) => return opened.notes.push(format!("xl/vbaProject.bin: {e}: its functions are not callable")),
     };
     let code_names = layout.sheets.iter().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect();
     // The file's number formats, for a function reading `Range.Text` as Excel shows the cell.
     let looks = layout.sheets.iter().map(|(name, s)| (name.clone(), s.look.clone())).collect();
-    let errors = vba::install_functions(&mut opened.workbook, &project, RunOptions { code_names, looks, ..options });
+    let errors = vba::install_functions(&mut opened.workbook, project, RunOptions { code_names, looks, ..options });
     if errors.is_empty() {
         return;
     }

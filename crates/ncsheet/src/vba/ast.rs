@@ -106,6 +106,14 @@ pub struct SpecialMembers {
     pub enumerator: Option<Rc<str>>,
 }
 
+/// The module of a joined project (its place in `parts`, which are in the order of their
+/// first lines) that source line `line` belongs to, found by bisection: a scan of the modules
+/// for each item of a project of 2,000 modules went over 2,000 modules for each of its items.
+pub fn part_of_line(parts: &[Part], line: u32) -> usize {
+    super::count(&super::PARTS_SEARCHED, u64::from(usize::BITS - parts.len().leading_zeros()));
+    parts.partition_point(|p| p.first_line <= line).saturating_sub(1)
+}
+
 impl Module {
     /// The `Option Base`/`Option Compare` of the module at `part` (its place in `parts`).
     pub fn options_of(&self, part: usize) -> ModuleOptions {
@@ -128,7 +136,7 @@ impl Module {
 
     /// The module of the project (its place in `parts`) the source line belongs to.
     pub fn part_at_line(&self, line: u32) -> usize {
-        self.parts.iter().rposition(|p| p.first_line <= line).unwrap_or(0)
+        part_of_line(&self.parts, line)
     }
 
     /// The module declaring `name` Public at its level, if one does (any case).

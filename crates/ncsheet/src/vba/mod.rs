@@ -342,6 +342,11 @@ pub struct Work {
     /// Bytes of macro source the parser read: a project's modules joined count once for
     /// each parse of the whole (`udf.rs` parses a workbook's project once, not once a module).
     pub source_parsed: u64,
+    /// Modules of a joined project looked at to find the one a place is in
+    /// ([`ast::part_of_line`]): a bisection's steps.
+    pub parts_searched: u64,
+    /// Workbooks' VBA projects read from their `vbaProject.bin` ([`read_project`]).
+    pub projects_read: u64,
 }
 
 /// The work done between two readings of [`work_done`].
@@ -358,6 +363,8 @@ impl std::ops::Sub for Work {
             items_measured: self.items_measured - before.items_measured,
             nodes_typed: self.nodes_typed - before.nodes_typed,
             source_parsed: self.source_parsed - before.source_parsed,
+            parts_searched: self.parts_searched - before.parts_searched,
+            projects_read: self.projects_read - before.projects_read,
         }
     }
 }
@@ -371,6 +378,8 @@ thread_local! {
     pub(crate) static ITEMS_MEASURED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static NODES_TYPED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
     pub(crate) static SOURCE_PARSED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static PARTS_SEARCHED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+    pub(crate) static PROJECTS_READ: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
 /// Adds `n` to one of the counters of [`Work`].
@@ -400,6 +409,10 @@ pub(crate) const ITEMS_MEASURED: Counter = ();
 pub(crate) const NODES_TYPED: Counter = ();
 #[cfg(not(feature = "testing"))]
 pub(crate) const SOURCE_PARSED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const PARTS_SEARCHED: Counter = ();
+#[cfg(not(feature = "testing"))]
+pub(crate) const PROJECTS_READ: Counter = ();
 
 /// The work counted on this thread so far ([`Work`]).
 #[cfg(feature = "testing")]
@@ -412,6 +425,8 @@ pub fn work_done() -> Work {
         items_measured: ITEMS_MEASURED.with(|c| c.get()),
         nodes_typed: NODES_TYPED.with(|c| c.get()),
         source_parsed: SOURCE_PARSED.with(|c| c.get()),
+        parts_searched: PARTS_SEARCHED.with(|c| c.get()),
+        projects_read: PROJECTS_READ.with(|c| c.get()),
     }
 }
 
@@ -842,7 +857,9 @@ fn left_out_of_joined_module(line: &str) -> bool {
 /// An error in another module of a joined project: named by that module and its own line.
 fn relocate(e: &mut MacroError, parts: &[ast::Part]) {
     let Some(span) = e.span.as_mut() else { return };
-    let Some(part) = parts.iter().skip(1).rev().find(|p| p.first_line <= span.line) else { return };
+    // The first module's own lines keep their place.
+    let at = ast::part_of_line(parts, span.line);
+    let Some(part) = parts.get(at).filter(|_| at > 0) else { return };
     span.line -= part.first_line - 1;
     e.file = part.name.to_string();
 }

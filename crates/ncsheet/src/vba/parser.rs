@@ -653,8 +653,7 @@ impl<'s> Build<'s> {
 
     /// The module of the project the source at `offset` belongs to.
     fn part_at(&self, offset: usize) -> usize {
-        let line = self.span(offset).line;
-        self.parts.iter().rposition(|p| p.first_line <= line).unwrap_or(0)
+        super::ast::part_of_line(&self.parts, self.span(offset).line)
     }
 
     fn ctx(&self) -> ParseContext<'_> {

@@ -218,6 +218,7 @@ fn error(stream: &str, message: impl std::fmt::Display) -> ProjectError {
 
 /// Reads the project from the bytes of `vbaProject.bin`.
 pub fn read_project(bytes: &[u8]) -> Result<VbaProject, ProjectError> {
+    super::count(&super::PROJECTS_READ, 1);
     let mut parts = open_parts(bytes)?;
     let encoding = parts.encoding()?;
     let mut modules = Vec::with_capacity(parts.listing.modules.len());

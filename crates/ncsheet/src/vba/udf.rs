@@ -1,8 +1,11 @@
 //! The workbook's own functions: the public Functions of an .xlsm's standard modules, callable
 //! from its cells as Excel calls them (`=myFunc(A1)`, `=Module1.myFunc(A1)`, any case). Each
 //! call runs in a fresh interpreter under the run limits, reading cells and never writing
-//! them; a failure is the cell's `#VALUE!`. Private Functions, Subs and the code of sheet,
-//! workbook and class modules are not callable (`#NAME?`), as in Excel.
+//! them; a failure is the cell's `#VALUE!`. Each call starts from the module-level variables
+//! and constants as the project's declarations leave them, declared once per recalculation
+//! (`interp::Shared`): what one call changes in them, the next does not see. Private
+//! Functions, Subs and the code of sheet, workbook and class modules are not callable
+//! (`#NAME?`), as in Excel.
 
 use std::rc::Rc;
 
@@ -166,6 +169,9 @@ impl UserFunctions for WorkbookFunctions {
     fn begin_recalculation(&self) {
         self.spent.set(0);
         self.began.set(Instant::now());
+        if let Some(program) = &self.program {
+            program.shared.forget_declarations();
+        }
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

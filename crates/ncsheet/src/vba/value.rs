@@ -792,6 +792,25 @@ impl Slots {
         self.slots.iter()
     }
 
+    /// The variables held.
+    pub(super) fn len(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Where variable `name` is held, for [`Slots::at`] and [`Slots::put_at`].
+    pub(super) fn position_of(&self, name: &str) -> Option<usize> {
+        self.position(name)
+    }
+
+    pub(super) fn at(&self, at: usize) -> &Slot {
+        &self.slots[at]
+    }
+
+    /// Puts `slot` back at `at`, where the variable of its name is held.
+    pub(super) fn put_at(&mut self, at: usize, slot: Slot) {
+        self.slots[at] = slot;
+    }
+
     pub fn iter_mut(&mut self) -> std::slice::IterMut<'_, Slot> {
         self.slots.iter_mut()
     }
