@@ -155,6 +155,9 @@ fn a_macro_past_the_workbooks_cells_is_refused_naming_the_cell() {
     Range(\"A1:I1\").Value = 1
     Range(\"A1:I1\").Copy Range(\"A2:I1000000\")
     MsgBox Err.Number & Err.Description & \"|\" & Range(\"A2\").Formula
+    Err.Clear
+    Range(\"A1:I1000000\").Value = 2
+    MsgBox Err.Number & Err.Description & \"|\" & Range(\"A1\").Value & \"|\" & Range(\"A2\").Value
 End Sub
 ";
     std::fs::write(dir.path().join("m.bas"), source).unwrap();
@@ -163,9 +166,10 @@ End Sub
     // MsgBox writes to stderr, before the run's own notes.
     let lines: Vec<&str> = run.stderr.lines().filter(|l| !l.starts_with("ncsheet:")).collect();
     let refusal = "Sheet1!F932068: a workbook holds at most 8388608 cells";
-    assert!(lines.len() == 2 && lines.iter().all(|l| l.contains(refusal)), "{}", run.stderr);
+    assert!(lines.len() == 3 && lines.iter().all(|l| l.contains(refusal)), "{}", run.stderr);
     assert!(lines[0].ends_with("|x|"), "nothing of the fill is written: {}", lines[0]);
     assert!(lines[1].ends_with('|'), "nothing of the paste is written: {}", lines[1]);
+    assert!(lines[2].ends_with("|1|"), "nothing of the .Value = is written: {}", lines[2]);
     // 600,000 formulas each summing sixteen cells of their own row: 9.6 million blank cells
     // linked one by one would pass the limit; the sums still follow their cells.
     std::fs::write(

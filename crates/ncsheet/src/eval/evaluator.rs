@@ -1697,7 +1697,10 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
             let mut text = super::value::TextBudget::default();
             for r in 0..rows {
                 for c in 0..cols {
-                    let item = f(&x.broadcast_get(r, c), &y.broadcast_get(r, c));
+                    let (xi, yi) = (x.broadcast_get(r, c), y.broadcast_get(r, c));
+                    text.read(&xi);
+                    text.read(&yi);
+                    let item = f(&xi, &yi);
                     if !text.take(&item) {
                         return Value::Error(XlError::Num);
                     }
@@ -1706,17 +1709,20 @@ pub fn broadcast2(a: &Value, b: &Value, f: &dyn Fn(&Value, &Value) -> Value) -> 
             }
             Value::Array(Rc::new(Array::new(rows, cols, data)))
         }
-        (Value::Array(x), s) => map_items(x, |v| f(v, s)),
-        (s, Value::Array(y)) => map_items(y, |v| f(s, v)),
+        (Value::Array(x), s) => map_items(x, s, |v| f(v, s)),
+        (s, Value::Array(y)) => map_items(y, s, |v| f(s, v)),
         (x, y) => f(x, y),
     }
 }
 
-/// `f` on each item of `a`, the result's texts counted against their limit (`#NUM!` past it).
-fn map_items(a: &Array, f: impl Fn(&Value) -> Value) -> Value {
+/// `f` on each item of `a` (with the single value `other`), the result's texts and the texts
+/// read for them counted against their limits (`#NUM!` past them).
+fn map_items(a: &Array, other: &Value, f: impl Fn(&Value) -> Value) -> Value {
     let mut text = super::value::TextBudget::default();
     let mut data = Vec::with_capacity(a.data.len());
     for v in &a.data {
+        text.read(v);
+        text.read(other);
         let item = f(v);
         if !text.take(&item) {
             return Value::Error(XlError::Num);

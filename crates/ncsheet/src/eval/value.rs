@@ -87,24 +87,49 @@ fn item_weight(v: &Value) -> usize {
 /// ask for 500 GB. Counted as the items are made, by [`TextBudget`]: 256 MiB.
 pub const MAX_ARRAY_TEXT_BYTES: usize = 1 << 28;
 
-/// The text bytes of an array's items so far, against [`MAX_ARRAY_TEXT_BYTES`].
+/// The most bytes of text the items of one array a formula makes may read from their
+/// operands together: a comparison or a FIND of two arrays of long texts makes small items
+/// but reads each pair whole (100 × 4,000 texts of 30,000 characters compared took 53 s; a
+/// SEARCH of 100,000 needles in one 32,000-character text, 77 s). Counted by [`TextBudget`]
+/// as the items are made: 512 MiB, about a second of comparing, 13 s of SEARCH, the slowest.
+pub const MAX_ARRAY_TEXT_READ: usize = 1 << 29;
+
+/// The text bytes of an array's items so far, against [`MAX_ARRAY_TEXT_BYTES`], and of the
+/// operands' items read to make them, against [`MAX_ARRAY_TEXT_READ`].
 #[derive(Default)]
-pub struct TextBudget(usize);
+pub struct TextBudget {
+    made: usize,
+    read: usize,
+}
 
 impl TextBudget {
-    /// Counts `item`; `false` once the array's texts pass the limit.
+    /// Counts `item`; `false` once the array's texts, or the texts read for them, pass
+    /// their limits.
     #[inline]
     pub fn take(&mut self, item: &Value) -> bool {
         if let Value::Text(t) = item {
-            self.0 += t.len();
+            self.made += t.len();
         }
-        self.0 <= MAX_ARRAY_TEXT_BYTES
+        self.made <= MAX_ARRAY_TEXT_BYTES && self.read <= MAX_ARRAY_TEXT_READ
+    }
+
+    /// Counts an operand's item read to make the next item.
+    #[inline]
+    pub fn read(&mut self, operand: &Value) {
+        if let Value::Text(t) = operand {
+            self.read += t.len();
+        }
     }
 }
 
-/// The note of a formula whose array's texts would pass [`MAX_ARRAY_TEXT_BYTES`].
+/// The note of a formula whose array's texts would pass [`MAX_ARRAY_TEXT_BYTES`] or
+/// [`MAX_ARRAY_TEXT_READ`].
 pub fn too_much_text_note() -> String {
-    format!("an array whose texts hold more than {} MiB, ncsheet's limit", MAX_ARRAY_TEXT_BYTES >> 20)
+    format!(
+        "an array whose texts hold more than {} MiB, or whose items read more than {} MiB of text, ncsheet's limits",
+        MAX_ARRAY_TEXT_BYTES >> 20,
+        MAX_ARRAY_TEXT_READ >> 20
+    )
 }
 
 /// A rectangular block of values, row-major. Never holds a nested array.

@@ -3096,21 +3096,39 @@ impl Interp<'_, '_> {
         }
         self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;
+        let item_at = |pos: Pos| match v {
+            Value::Array(a) => {
+                a.broadcast_get((pos.row - rect.first.row) as usize, (pos.col - rect.first.col) as usize)
+            }
+            other => other.clone(),
+        };
+        room_for_write(&wb, sheet, rect, &item_at).map_err(|e| self.fault(one_line(&e)))?;
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
-                let item = match v {
-                    Value::Array(a) => {
-                        a.broadcast_get((row - rect.first.row) as usize, (col - rect.first.col) as usize)
-                    }
-                    other => other.clone(),
-                };
                 let pos = Pos::new(row, col);
-                wb.set_input_deferred(sheet, pos, &input_text(&item)).map_err(|e| self.fault(one_line(&e)))?;
+                wb.set_input_deferred(sheet, pos, &input_text(&item_at(pos))).map_err(|e| self.fault(one_line(&e)))?;
             }
         }
         wb.recalculate_rect(sheet, rect);
         Ok(())
     }
+}
+
+/// Whether the workbook has room for every cell a `.Value =` over `rect` fills, checked
+/// before the first is written, so that a write past the cell limit changes nothing (it
+/// stopped at the cell past the limit with the cells before it written).
+fn room_for_write(
+    wb: &Workbook,
+    sheet: SheetId,
+    rect: Rect,
+    item_at: &dyn Fn(Pos) -> Value,
+) -> Result<(), WorkbookError> {
+    if wb.cell_count() as u64 + rect.rows() as u64 * rect.cols() as u64 <= crate::workbook::MAX_CELLS as u64 {
+        return Ok(());
+    }
+    let rows = rect.first.row..=rect.last.row;
+    let places = rows.flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col)));
+    wb.room_for_all(sheet, places.filter(|&pos| !input_text(&item_at(pos)).is_empty()))
 }
 
 /// The deepest GoSubs nest without a Return (each level is a few native stack frames: the

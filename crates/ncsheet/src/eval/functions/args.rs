@@ -153,6 +153,7 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
                 Value::Array(a) => a.broadcast_get(r, c),
                 other => other.clone(),
             }));
+            scalars.iter().for_each(|v| text.read(v));
             let item = f(&scalars).unwrap_or_else(Value::Error);
             if !text.take(&item) {
                 return Err(XlError::Num);

@@ -372,10 +372,27 @@ fn mmult(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     if a.nrows() * b.ncols() > MAX_MATRIX_ITEMS {
         return Err(ctx.explain(XlError::Num, format!("a product of {} × {} items is too large", a.nrows(), b.ncols())));
     }
+    let work = a.nrows().saturating_mul(a.ncols()).saturating_mul(b.ncols());
+    if work > MAX_MMULT_WORK {
+        let note = format!(
+            "a product of {} × {} by {} × {} items is {work} multiply-adds, more than ncsheet's limit of {:e} for MMULT",
+            a.nrows(),
+            a.ncols(),
+            b.nrows(),
+            b.ncols(),
+            MAX_MMULT_WORK as f64
+        );
+        return Err(ctx.explain(XlError::Num, note));
+    }
     // Its multiply-adds, for a product inside MAP's LAMBDA (the result counts far fewer).
-    ctx.charge(a.nrows().saturating_mul(a.ncols()).saturating_mul(b.ncols()));
+    ctx.charge(work);
     to_value(&(a * b))
 }
+
+/// The most multiply-adds one MMULT may take (rows × inner size × columns): 4·10^9, about a
+/// second (two 1,587 × 1,587 matrices). The array limit allows 4,096 × 4,096 by 4,096 × 4,096,
+/// 6.9·10^10, which took 13 s, and a cell of three such products ran past 30 s.
+const MAX_MMULT_WORK: usize = 4_000_000_000;
 
 /// The most work one LU decomposition (MINVERSE, MDETERM) may take: n³ steps, 10^9 (a
 /// 1,000 × 1,000 matrix, under a second). The array limit allows 4,096 × 4,096, and 3,000 × 3,000
