@@ -168,3 +168,29 @@ fn an_array_is_no_operand() {
     );
     assert_eq!(printed, [" 13  13  13  13  13  0  2 "]);
 }
+
+/// VBA's library functions of single values take no array: `Abs`, `Int`, `Sqr`, `CDbl`,
+/// `Len`, `Trim`, `Round`, `Format` of a several-cell Range (its value is an array) or of a
+/// Variant holding an array is a Type mismatch, run-time error 13 ("Type mismatch (Error 13)":
+/// "An object was passed to a procedure that is expecting a single property or value"; "Abs
+/// function": "The required number argument can be any valid numeric expression"), where a
+/// cell's formula works item by item; a one-cell Range is its value.
+#[test]
+fn a_library_function_of_one_value_takes_no_array() {
+    let mut wb = Workbook::with_sheet();
+    for (row, text) in ["-2.5", "3.7"].iter().enumerate() {
+        wb.set_input(0, ncsheet::formula::address::Pos::new(row as u32, 0), text).unwrap();
+    }
+    let calls =
+        ["Abs(r)", "Int(r.Value)", "Sqr(a)", "Sgn(r)", "CDbl(r)", "Len(r)", "Trim(a)", "Round(r, 1)", "Format(a)"];
+    let mut body = String::from(
+        "    Dim v As Variant, a As Variant, r As Range\n    a = Array(4, 9)\n    Set r = Range(\"A1:A2\")\n    \
+         On Error Resume Next\n",
+    );
+    for call in calls {
+        body.push_str(&format!("    v = {call}: Debug.Print Err.Number; TypeName(v);: Err.Clear\n"));
+    }
+    body.push_str("    Debug.Print Abs(Range(\"A1\")); Int(Range(\"A2:A2\"))");
+    let printed = run_main(&mut wb, &body);
+    assert_eq!(printed, [" 13 Empty".repeat(calls.len()) + " 2.5  3 "]);
+}

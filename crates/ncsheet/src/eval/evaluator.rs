@@ -1190,6 +1190,12 @@ impl<'a> Ctx<'a> {
         self.host.is_some_and(|host| host.option_compare_text())
     }
 
+    /// Whether a macro evaluates this expression (VBA's library functions then follow VBA's
+    /// rules where a cell's formula follows Excel's).
+    pub fn in_macro(&self) -> bool {
+        self.host.is_some()
+    }
+
     /// [`Host::text_length`] of the host's variable `name`, when there is a host.
     pub fn host_text_length(&self, name: &str) -> Option<usize> {
         self.host?.text_length(name)

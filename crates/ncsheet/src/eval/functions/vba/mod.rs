@@ -496,6 +496,22 @@ fn null_argument(ctx: &mut Ctx, name: &str, values: &[Value], passes: Passes) ->
     Some(Ok(Value::Null))
 }
 
+/// Type mismatch (run-time error 13) for an array given to a library function of single
+/// values in a macro (a several-cell `Range`, whose value is an array, or a Variant holding
+/// one: `Abs(Range("A1:A2"))`): VBA's `Abs`, `Sqr`, `CDbl`, `Trim`… take one value ("Type
+/// mismatch (Error 13)": "An object was passed to a procedure that is expecting a single
+/// property or value"; "Abs function": "The required number argument can be any valid numeric
+/// expression", one value, as for Sqr, Int, Fix, Sgn, Exp, Log and the conversions), where a
+/// cell's formula works item by item. A one-cell Range is its value, so `Abs(Range("A1"))`
+/// still computes.
+fn array_argument(ctx: &mut Ctx, name: &str, values: &[Value]) -> Option<XlError> {
+    if !ctx.in_macro() || !values.iter().any(|v| matches!(v, Value::Array(_))) {
+        return None;
+    }
+    let why = format_args!("{name} takes a single value, not an array (a Range of several cells)");
+    Some(ctx.raise_vba(XlError::Value, 13, errors::message(13, why)))
+}
+
 /// Run-time error 94 for a Null where `name` needs a value (`#VALUE!` in a cell).
 pub(crate) fn invalid_use_of_null(ctx: &mut Ctx, name: &str) -> XlError {
     ctx.raise_vba(XlError::Value, 94, errors::message(94, format_args!("{name} was given Null")))
@@ -611,6 +627,9 @@ fn lift_vba_reading_part(
     passes: Passes,
     f: &dyn Fn(&[Value]) -> XlResult<Value>,
 ) -> XlResult<Value> {
+    if let Some(refused) = array_argument(ctx, name, &values) {
+        return Err(refused);
+    }
     if let Some(result) = null_argument(ctx, name, &values, passes) {
         return result;
     }
@@ -655,6 +674,9 @@ fn number_fn_of(
     let result = match v {
         Value::Number(x) => apply(x),
         v => {
+            if let Some(refused) = array_argument(ctx, name, std::slice::from_ref(&v)) {
+                return Err(refused);
+            }
             if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
                 return result;
             }
@@ -1339,6 +1361,9 @@ fn format_by_weeks(ctx: &mut Ctx, args: &[Expr], raised: &Raised) -> XlResult<Va
     }
     if let Some(shown) = long_long_formatted(ctx, args, &values, raised) {
         return shown;
+    }
+    if let Some(refused) = array_argument(ctx, "Format", &values) {
+        return Err(refused);
     }
     let lifted = lift_values(&values, &|v| {
         // "Returning strings from functions": the Variant Format lets Null propagate through
