@@ -752,3 +752,19 @@ fn the_windows_and_sheets_application_reaches_the_worksheet_functions() {
     );
     assert_eq!(out, vec!["a b| 9 "]);
 }
+
+/// "Worksheet.Application property", "Range.Application property": each "Returns an
+/// Application object that represents the Microsoft Excel application", so a worksheet function
+/// reached through a sheet or a range the macro names or holds in a variable is Application's
+/// own; the object is still looked up first, and a sheet the workbook lacks is "Subscript out
+/// of range (Error 9)" as `Sheets("Nope")` alone is.
+#[test]
+fn any_objects_application_reaches_the_worksheet_functions() {
+    let out = printed(
+        "    Dim ws As Worksheet, x As Variant\n    Set ws = Worksheets(1)\n    [A1] = 3: [A2] = 7\n    \
+         Debug.Print Worksheets(1).Application.WorksheetFunction.Max(1, 5); ws.Application.Max(ws.Range(\"A1:A2\")); \
+         ws.Range(\"A1\").Application.Sum(2, 3)\n    On Error Resume Next\n    \
+         x = Sheets(\"Nope\").Application.WorksheetFunction.Max(1, 5)\n    Debug.Print Err.Number; IsEmpty(x)",
+    );
+    assert_eq!(out, vec![" 5  7  5 ", " 9 True"]);
+}

@@ -552,6 +552,10 @@ pub enum Node {
     /// Option Base ("Array function": the lower bound is Option Base's "unless Array is
     /// qualified with the name of the type library (for example VBA.Array)").
     ZeroBasedArray { call: Expr },
+    /// `Sheets("Data").Application.WorksheetFunction.Max(…)`, `ws.Application.Max(…)`: a call
+    /// of Application's own reached through the `Application` of another object, which is
+    /// evaluated first for its errors (a sheet the workbook lacks is still error 9).
+    Through { object: Path, call: Expr },
 }
 
 /// The questions [`Node::Inspect`] asks of a variable.

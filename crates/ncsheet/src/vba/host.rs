@@ -8,7 +8,7 @@ use crate::eval::{Ctx, Env, Note, Operand, UserCall, Value, XlError};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{BinOp, Expr, SheetId};
 
-use super::ast::{Node, Span};
+use super::ast::{Node, Path, Span};
 use super::interp::{Fault, Interp, Run};
 use super::value::{Obj, Var};
 use super::ErrorKind;
@@ -531,7 +531,17 @@ impl Interp<'_, '_> {
                 other => Ok(other),
             },
             Node::ZeroBasedArray { call } => Ok(ctx.operand(call)),
+            Node::Through { object, call } => self.call_through(ctx, object, call),
         }
+    }
+
+    /// [`Node::Through`]: the object whose Application is named, then the call. Its own
+    /// function, so the frame of every node read holds none of this.
+    #[inline(never)]
+    fn call_through(&self, ctx: &mut Ctx, object: &Path, call: &Expr) -> Run<Operand> {
+        let obj = self.path(ctx, object)?;
+        self.alive(obj, object.span)?;
+        Ok(ctx.operand(call))
     }
 
     /// The worksheet function's call a [`Node::SheetCall`] `e` makes (what its result is read
@@ -540,6 +550,7 @@ impl Interp<'_, '_> {
         match &e.kind {
             crate::formula::ast::ExprKind::Host(id) => match &self.module.nodes[*id as usize] {
                 Node::SheetCall { call, .. } | Node::ZeroBasedArray { call } => call,
+                Node::Through { call, .. } => self.sheet_call_inner(call),
                 _ => e,
             },
             _ => e,

@@ -742,6 +742,9 @@ impl Build<'_> {
         if let Some(call) = self.qualified_call(pair, &mut path)? {
             return Ok(call);
         }
+        if let Some(call) = self.call_through_object(pair, &mut path, end)? {
+            return Ok(call);
+        }
         if self.is_enum_member(&path) {
             let member = path.links.pop().expect("two links");
             // `CURVE_DIR.[_FIRST]` is the member `_FIRST`.
@@ -867,6 +870,27 @@ impl Build<'_> {
             Some(e) => Ok(Some(e)),
             None => Err(self.error_at(pair, format!("{} is not a function of {}", link.name, path.links[0].name))),
         }
+    }
+
+    /// `Sheets("Data").Application.WorksheetFunction.Max(…)`, `ws.Application.Max(…)`,
+    /// `r.Application.Sum(…)`: the Application of any of Excel's objects is the one Application
+    /// ("Worksheet.Application property", "Range.Application property": "Returns an
+    /// Application object that represents the Microsoft Excel application"), so the call is
+    /// Application's own ([`Self::qualified_call`]); the object before it stays in the tree
+    /// and is evaluated first ([`Node::Through`]). `None`, and `path` as it was, for any other path.
+    fn call_through_object(&self, pair: &Pair<Rule>, path: &mut Path, end: usize) -> Res<Option<Expr>> {
+        let Some(at) = path.links.iter().position(|l| lower_bare(&l.name) == "application") else { return Ok(None) };
+        if at == 0 || at + 1 >= path.links.len() || path.links[at].args.is_some() {
+            return Ok(None);
+        }
+        let mut rest = Path { with: false, links: path.links.split_off(at), span: path.span };
+        let Some(call) = self.qualified_call(pair, &mut rest)? else {
+            path.links.append(&mut rest.links);
+            return Ok(None);
+        };
+        let object = Path { with: false, links: std::mem::take(&mut path.links), span: path.span };
+        self.check_path(pair, &object)?;
+        Ok(Some(self.node(Node::Through { object, call }, start(pair), end)))
     }
 
     /// A worksheet function's call with each argument that may give a VBA array read as
