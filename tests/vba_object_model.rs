@@ -288,3 +288,46 @@ fn dictionary_keys_and_items_index_the_array_they_return() {
         Debug.Print CStr(Err.Number)\r\nEnd Sub\r\n";
     assert_eq!(printed(main, &[]), ["a=10", "b=20", "1b", "9"]);
 }
+
+/// Runs `body` as Sub Main on a workbook of `sheets` (the first active), printing what it prints.
+fn printed_on(sheets: &[&str], body: &str) -> Vec<String> {
+    let mut wb = Workbook::with_sheet();
+    wb.rename_sheet(0, sheets[0]).unwrap();
+    for name in &sheets[1..] {
+        wb.add_sheet(name).unwrap();
+    }
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    vba::run(&mut wb, &src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}")).printed
+}
+
+// [MS-VBAL] 5.6.13.1: an index expression on an object is a call of its default member. The
+// default member of Excel's Sheets and Worksheets collections is Item ("Sheets.Item property",
+// "Worksheets object": `Worksheets(1)`), of a Rows or Columns collection too ("Range.Item
+// property"). So a variable set to the collection is indexed as the collection is, by number
+// or by name, and `Set` takes the sheet (a real module, ListWorksheets: `Set sl =
+// ActiveWorkbook.Worksheets` … `Set ws = sl(j)`).
+#[test]
+fn a_variable_set_to_a_collection_is_indexed_by_its_item() {
+    let out = printed_on(
+        &["Parts", "Offsets", "Notes"],
+        "    Dim sl As Object, ws As Worksheet, rw As Object\n    Set sl = ActiveWorkbook.Worksheets\n\
+         \x20   Set ws = sl(2)\n    Debug.Print ws.Name; \",\"; sl(\"Notes\").Index; \",\"; sl(3).Name\n\
+         \x20   Set rw = Range(\"A1:B3\").Rows\n    Debug.Print rw(2).Address",
+    );
+    assert_eq!(out, ["Offsets, 3 ,Notes", "$A$2:$B$2"]);
+}
+
+// "Range.Item property": `expression.Item(RowIndex, ColumnIndex)`, the default member, counted
+// from the range's first cell and allowed past it (`Range("B2")(2)` is B3, `(1, 2)` is C2), on
+// a Range any expression gives: `Range("A65536").End(xlUp)(2)`, the cell under the last used
+// one, as ExtendOffice's "Combine" macro pastes each sheet's rows there.
+#[test]
+fn a_range_an_expression_gives_is_indexed_by_its_item() {
+    let out = printed_on(
+        &["Data"],
+        "    Range(\"A1:A3\").Value = 7\n    Debug.Print Range(\"B2\")(2).Address; Range(\"B2\")(1, 2).Address; \
+         Range(\"B2:C3\")(3).Address\n    Debug.Print Range(\"A65536\").End(xlUp)(2).Address\n\
+         \x20   Range(\"A65536\").End(xlUp)(2).Value = \"next\"\n    Debug.Print Range(\"A4\").Value",
+    );
+    assert_eq!(out, ["$B$3$C$2$B$3", "$A$4", "next"]);
+}

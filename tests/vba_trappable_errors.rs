@@ -219,3 +219,17 @@ fn error_without_a_number_is_the_current_errors_message() {
     );
     assert_eq!(out, ["[]", "Division by zero", "Division by zero", "[]"]);
 }
+
+// "Return without GoSub (Error 3)": "A Return statement does not have a corresponding GoSub
+// statement" — a run-time error of the Return itself, so the procedure's On Error GoTo
+// handler traps it as any other ("On Error statement"), with Err.Number 3 and the message of
+// the "Trappable errors" table. (A real module, ListWorksheets, ends its loop with a stray
+// Return under `On Error GoTo FAILED`: VBA shows its MsgBox "Failed".)
+#[test]
+fn a_return_without_gosub_is_error_3_that_on_error_traps() {
+    let out = printed(
+        "    On Error GoTo Failed\n    Debug.Print \"before\"\n    Return\n    Debug.Print \"after\"\n    Exit Sub\n\
+         Failed:\n    Debug.Print Err.Number & \" \" & Err.Description",
+    );
+    assert_eq!(out, ["before", "3 Return without GoSub"]);
+}

@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use crate::eval::{Array, Ctx, Operand, Value};
 use crate::formula::address::Rect;
-use crate::formula::ast::{Expr, ExprKind};
+use crate::formula::ast::{Expr, ExprKind, SheetId};
 
 use super::ast::{Arg, Link, Node, Param, Span, Ty};
 use super::interp::{Interp, Run};
@@ -203,6 +203,9 @@ impl Interp<'_, '_> {
             if let Some(h) = self.store_named(name) {
                 return self.store_operand(ctx, &h, index, span);
             }
+            if let Some(got) = self.collection_item_of(ctx, name, index, span) {
+                return got;
+            }
             if let Some(Var::Obj(Obj::Instance(object))) = self.lookup(name) {
                 // `bag(2)`: the object's default member ([MS-VBAL] 5.6.13.1).
                 let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
@@ -262,6 +265,68 @@ impl Interp<'_, '_> {
             }
             _ => Err(self.fault_at(span, format!("{name} is not an array"))),
         }
+    }
+
+    /// `sl(j)` of a variable set to one of Excel's collections (`Set sl = ActiveWorkbook.Worksheets`,
+    /// `r.Rows`, `r.Areas`): its default member, Item ([MS-VBAL] 5.6.13.1: an index
+    /// expression on an object is a call of its default member; "Sheets.Item property",
+    /// "Range.Item property"). `None` when the variable holds something else.
+    #[inline(never)]
+    fn collection_item_of(&self, ctx: &mut Ctx, name: &str, index: &[Expr], span: Span) -> Option<Run<Operand>> {
+        let item = self.collection_item(ctx, name, index, span)?;
+        Some(item.and_then(|item| self.operand_of(item, span)))
+    }
+
+    /// `Set ws = sl(j)`: the node `id` is an item of a variable set to one of Excel's
+    /// collections, as an object ([`Interp::collection_item_of`]).
+    #[inline(never)]
+    pub(super) fn collection_element(&self, id: u32) -> Option<Run<Var>> {
+        let Node::Element { var, index, span } = &self.module.nodes[id as usize] else { return None };
+        let item = self.collection_item(&mut self.ctx(), var, index, *span)?;
+        Some(item.map(Var::Obj))
+    }
+
+    /// Whether the node `id` is `sl(j)` of a variable set to one of Excel's collections.
+    pub(super) fn is_collection_element(&self, id: u32) -> bool {
+        matches!(&self.module.nodes[id as usize], Node::Element { var, .. } if self.holds_collection(var))
+    }
+
+    pub(super) fn holds_collection(&self, name: &str) -> bool {
+        let is_collection = |held: &Var| {
+            matches!(
+                held,
+                Var::Obj(Obj::Sheets | Obj::SheetGroup(_) | Obj::Lines(..) | Obj::AreaList(..) | Obj::Hyperlinks(..))
+            )
+        };
+        self.peek(name, is_collection) == Some(true)
+    }
+
+    fn collection_item(&self, ctx: &mut Ctx, name: &str, index: &[Expr], span: Span) -> Option<Run<Obj>> {
+        if !self.holds_collection(name) {
+            return None;
+        }
+        let collection = self.lookup(name)?;
+        let args: Vec<Arg> = index.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
+        Some(self.collection_member_item(ctx, collection, &args, span))
+    }
+
+    /// The collection's Item of the arguments, as `collection.Item(args)` reads it.
+    #[inline(never)]
+    pub(super) fn collection_member_item(&self, ctx: &mut Ctx, collection: Var, args: &[Arg], span: Span) -> Run<Obj> {
+        let Var::Obj(collection) = collection else { unreachable!("a collection is an object") };
+        let link = Link { name: "Item".into(), args: Some(args.to_vec()), span };
+        let item = self.member(ctx, collection, &link);
+        self.take_pending().and(item)
+    }
+
+    /// `r(i)` or `r(i, j)` of a Range an expression gave (`Range("A65536").End(xlUp)(2)`): its
+    /// default member, Item, the cell counted from the range's first cell, which may lie past
+    /// the range ("Range.Item property").
+    #[inline(never)]
+    fn range_item_var(&self, sheet: SheetId, rect: Rect, index: &[Expr], span: Span) -> Run<Var> {
+        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("Range item: {m}")))?;
+        Ok(Var::Obj(Obj::Range(sheet, Rect::cell(cell))))
     }
 
     /// The node is `a(i)` of a variable holding an array with objects or arrays among its items.
@@ -647,8 +712,7 @@ impl Interp<'_, '_> {
                     _ => Ok(super::value::array_var(a.data.data[k].clone(), self.option_base())),
                 }
             }
-            Var::Obj(Obj::Range(..)) => Err(self
-                .fault_at(span, "a Range is indexed through .Cells(row, column) or .Item(i) here, not a second (…)")),
+            Var::Obj(Obj::Range(sheet, rect)) => self.range_item_var(sheet, rect, index, span),
             other => {
                 let what = match other {
                     Var::Obj(o) => o.describe().to_string(),

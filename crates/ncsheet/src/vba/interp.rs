@@ -1222,6 +1222,10 @@ impl Interp<'_, '_> {
                 let Node::Index { base, index, span } = &self.module.nodes[id as usize] else { unreachable!() };
                 self.indexed_var(base, index, *span)
             }
+            // `Set ws = sl(j)` of `Set sl = ActiveWorkbook.Worksheets`: the collection's Item.
+            ExprKind::Host(_) if as_object && self.is_collection_element(id) => {
+                self.collection_element(id).expect("an item of a collection")
+            }
             // `Set x = bag(1)`, `TypeName(bag(1))`: what an object's default member gives.
             ExprKind::Host(_) if self.instance_element(id).is_some() => {
                 let (object, index, span) = self.instance_element(id).expect("an object's item");
@@ -2025,7 +2029,7 @@ impl Interp<'_, '_> {
             StmtKind::Exit(kind) => return Ok(Flow::Exit(*kind)),
             StmtKind::GoTo(label) => return Ok(Flow::GoTo(label.clone())),
             StmtKind::GoSub(label) => return self.gosub(label),
-            StmtKind::Return => return Ok(Flow::Return),
+            StmtKind::Return => return self.return_from_gosub(),
             StmtKind::OnError(mode) => self.on_error(mode),
             StmtKind::Resume(kind) => {
                 if !self.frame_flag(|f| f.handling) {
@@ -2269,6 +2273,18 @@ impl Interp<'_, '_> {
             Flow::Next => Flow::Leave,
             other => other,
         })
+    }
+
+    /// `Return`: back to the statement after the GoSub that ran this subroutine. With no GoSub
+    /// running it is run-time error 3 at the Return itself, which `On Error` traps as any other
+    /// ("Return without GoSub (Error 3)": "A Return statement does not have a corresponding
+    /// GoSub statement"; "GoSub...Return statement").
+    #[inline(never)]
+    fn return_from_gosub(&self) -> Run<Flow> {
+        if self.gosubs.get() == 0 {
+            return Err(self.vba_fault(3, "Return belongs in a subroutine a GoSub runs"));
+        }
+        Ok(Flow::Return)
     }
 
     /// VBA's run-time error `number` (its message from the one table), raised here.

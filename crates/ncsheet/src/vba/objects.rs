@@ -151,6 +151,10 @@ impl Interp<'_, '_> {
                 // Of several areas, Item counts from the first area's top-left.
                 return self.cells(ctx, *sheet, areas[0], link);
             }
+            if let (Some(args), true) = (&link.args, self.holds_collection(&link.name)) {
+                // `rw(2).Address` with rw set to `r.Rows`: the collection's Item.
+                return self.collection_member_item(ctx, var, args, link.span);
+            }
             if link.args.is_some() {
                 return Err(self.fault_at(link.span, format!("{} is a variable, not an array of objects", link.name)));
             }
