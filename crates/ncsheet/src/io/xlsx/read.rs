@@ -427,11 +427,16 @@ fn array_anchors(layout: &Layout, wb: &Workbook) -> HashMap<(SheetId, Pos), ()> 
 /// [`syntax::legacy_intersection`]) and are recalculated. A result that is still an array
 /// is intersected as a whole, as Excel shows a legacy formula's result: a reference in line
 /// with the cell, or an array's first item (`=ROW(A3:A8)` shows 3).
+///
+/// Each step rewrites all its formulas first and recalculates once after them: a
+/// recalculation per formula recomputed everything reading it each time, so 2,000 legacy
+/// formulas each reading the next one's cell took minutes (quadratic in the chain).
 fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], arrays: &HashMap<(SheetId, Pos), ()>) {
     // By formula id, for the sheet of the candidates at hand (they come sheet by sheet; a
     // sheet met again only decides again): an index, not a hash, as a million are looked up.
     let mut decided: Vec<Option<bool>> = Vec::new();
     let mut deciding_for = None;
+    let mut rewritten = Vec::new();
     for &(sheet, pos) in candidates {
         let Some(id) = wb.formula_id(sheet, pos) else { continue };
         if deciding_for != Some(sheet) {
@@ -453,34 +458,53 @@ fn intersect_legacy_formulas(wb: &mut Workbook, candidates: &[(SheetId, Pos)], a
         if intersects && !spills(wb, sheet, pos) {
             let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
             if let Some(fixed) = syntax::legacy_operand_intersection(&tree, wb, sheet) {
-                wb.set_formula_tree(sheet, pos, fixed);
+                wb.set_formula_tree_deferred(sheet, pos, fixed);
+                rewritten.push((sheet, pos));
             }
         }
     }
-    for (sheet, pos) in wb.spilling_cells() {
-        if !arrays.contains_key(&(sheet, pos)) {
-            intersect_legacy_formula(wb, sheet, pos);
-            if spills(wb, sheet, pos) {
-                let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
-                if let Some(whole) = syntax::whole_intersection(&tree) {
-                    wb.set_formula_tree(sheet, pos, whole);
-                }
+    recalculate_rewritten(wb, &mut rewritten);
+    let legacy: Vec<(SheetId, Pos)> =
+        wb.spilling_cells().into_iter().filter(|place| !arrays.contains_key(place)).collect();
+    for &(sheet, pos) in &legacy {
+        let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+        if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
+            wb.set_formula_tree_deferred(sheet, pos, fixed);
+            rewritten.push((sheet, pos));
+        }
+    }
+    recalculate_rewritten(wb, &mut rewritten);
+    for &(sheet, pos) in &legacy {
+        if spills(wb, sheet, pos) {
+            let Some(tree) = wb.formula_tree(sheet, pos) else { continue };
+            if let Some(whole) = syntax::whole_intersection(&tree) {
+                wb.set_formula_tree_deferred(sheet, pos, whole);
+                rewritten.push((sheet, pos));
             }
         }
     }
+    recalculate_rewritten(wb, &mut rewritten);
+}
+
+/// One recalculation of what the `rewritten` formulas changed, a sheet at a time (over the
+/// rectangle around that sheet's rewritten cells), then forgets them.
+fn recalculate_rewritten(wb: &mut Workbook, rewritten: &mut Vec<(SheetId, Pos)>) {
+    rewritten.sort_by_key(|&(sheet, pos)| (sheet, pos.row, pos.col));
+    for same_sheet in rewritten.chunk_by(|a, b| a.0 == b.0) {
+        let sheet = same_sheet[0].0;
+        let (mut first, mut last) = (same_sheet[0].1, same_sheet[0].1);
+        for &(_, pos) in same_sheet {
+            first = Pos::new(first.row.min(pos.row), first.col.min(pos.col));
+            last = Pos::new(last.row.max(pos.row), last.col.max(pos.col));
+        }
+        wb.recalculate_rect(sheet, Rect { first, last });
+    }
+    rewritten.clear();
 }
 
 fn spills(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
     Env::spill_rect(wb, sheet, pos).is_some_and(|r| !r.is_cell())
         || wb.value(sheet, pos) == Value::Error(XlError::Spill)
-}
-
-/// Puts `@` where Excel intersected in the legacy formula of `pos`, and recalculates.
-fn intersect_legacy_formula(wb: &mut Workbook, sheet: SheetId, pos: Pos) {
-    let Some(tree) = wb.formula_tree(sheet, pos) else { return };
-    if let Some(fixed) = syntax::legacy_intersection(&tree, wb, sheet) {
-        wb.set_formula_tree(sheet, pos, fixed);
-    }
 }
 
 /// The table and pivot-table parts of every worksheet kept, by sheet: (type, part).
