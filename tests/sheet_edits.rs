@@ -724,6 +724,40 @@ fn insertions_in_a_loop_keep_the_cells_they_began_with() {
     assert_eq!(wb.cell_count(), cells);
 }
 
+// Issue 30: a formula summing a small range (`=SUM(B1:Q1)`, at most 16 cells) links each of
+// its cells, making the blank ones; they stayed when the formula went or came to read
+// elsewhere, so a thousand such formulas pointed at row after row filled the workbook's
+// cell limit (docs/limits.md) with cells nothing reads. They go back once nothing links
+// them, and so does a cell emptied that no formula reads; cells read again are made again,
+// and the sums are what they sum. With the change log kept (a file to save), an emptied
+// cell stays: its place is an edit the save writes.
+#[test]
+fn blank_cells_nothing_links_are_given_back() {
+    let mut wb = Workbook::with_sheet();
+    let sum_row = |wb: &mut Workbook, i: u32, row: u32| set(wb, 0, &format!("A{i}"), &format!("=SUM(B{row}:Q{row})"));
+    for i in 1..=1000 {
+        sum_row(&mut wb, i, i);
+    }
+    assert_eq!(wb.cell_count(), 1000 + 16_000);
+    for i in 1..=1000 {
+        sum_row(&mut wb, i, i + 1000);
+    }
+    assert_eq!(wb.cell_count(), 1000 + 16_000, "the rows no formula reads kept their cells");
+    for i in 1..=1000 {
+        set(&mut wb, 0, &format!("A{i}"), "");
+    }
+    assert_eq!(wb.cell_count(), 0);
+    set(&mut wb, 0, "C5", "7");
+    sum_row(&mut wb, 1, 5);
+    set(&mut wb, 0, "A2", "=C5*2");
+    assert_eq!(wb.value(0, at("A1")), n(7.0));
+    assert_eq!(wb.value(0, at("A2")), n(14.0));
+    wb.track_changes();
+    set(&mut wb, 0, "A2", "");
+    assert_eq!(wb.changes().unwrap().inputs, [(0, at("A2"))]);
+    assert_eq!(wb.cell_count(), 2 + 16);
+}
+
 // The place a reused cell leaves is still an edited place: a csv saved after `Rows(1).Insert`
 // has the empty row Excel inserts above the old first row (the csv's own text is kept for
 // the places not edited, so a place forgotten with its cell would keep its old "1").

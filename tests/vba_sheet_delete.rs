@@ -453,3 +453,43 @@ fn a_group_of_sheets_counts_moves_copies_and_deletes_its_sheets() {
     run(&mut wb, "    Worksheets(Array(1, 2)).Delete");
     assert_eq!(wb.tab_names(), ["A", "D", "B", "C"]);
 }
+
+// Issue 30: a deleted sheet's cells go with it, and the workbook's cell limit (docs/limits.md)
+// counts them no more: a loop adding a sheet, filling a million cells and deleting it met
+// the limit in its ninth turn, one sheet left. Five turns here, each sheet holding 2,000
+// values and 2,000 formulas reading Sheet1, read by a formula of Sheet1 that becomes #REF!
+// ("How to correct a #REF! error"): the workbook ends with its own cells and those five.
+// A sheet made after, on the cells given back, computes as any: 1+2+3 = 6, 3+2 = 5.
+#[test]
+fn a_deleted_sheets_cells_are_given_back() {
+    let mut wb = book(&["Sheet1"]);
+    set(&mut wb, 0, "A1", "2");
+    let before = wb.cell_count();
+    run(
+        &mut wb,
+        "    Application.DisplayAlerts = False
+    For i = 1 To 5
+        Set ws = Sheets.Add
+        ws.Range(\"A1:A2000\").Value = i
+        ws.Range(\"B1:B2000\").Formula = \"=A1+Sheet1!$A$1\"
+        Sheets(\"Sheet1\").Range(\"B\" & i).Formula = \"=SUM(\" & ws.Name & \"!B1:B4)\"
+        ws.Delete
+    Next",
+    );
+    assert_eq!(wb.cell_count(), before + 5, "the deleted sheets kept cells");
+    for cell in ["B1", "B5"] {
+        assert_eq!(get(&wb, 0, cell), Value::Error(XlError::Ref), "{cell}");
+    }
+    run(
+        &mut wb,
+        "    Set ws = Sheets.Add
+    ws.Name = \"Last\"
+    ws.Range(\"A1:A3\").Value = Application.Transpose(Array(1, 2, 3))
+    ws.Range(\"B3\").Formula = \"=A3+Sheet1!$A$1\"
+    Sheets(\"Sheet1\").Range(\"C1\").Formula = \"=SUM(Last!A1:A3)\"",
+    );
+    let last = wb.sheet_id("Last").unwrap();
+    assert_eq!(get(&wb, 0, "C1"), Value::Number(6.0));
+    assert_eq!(get(&wb, last, "B3"), Value::Number(5.0));
+    assert_eq!(wb.cell_count(), before + 5 + 5);
+}

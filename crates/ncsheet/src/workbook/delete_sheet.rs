@@ -46,13 +46,16 @@ impl Workbook {
         if let (Some(record), Some(journal)) = (record, &mut self.journal) {
             journal.deleted.push(record);
         }
-        self.empty_sheet(sheet);
+        let cells = self.empty_sheet(sheet);
         self.strike_formulas_reading(sheet, &order);
         let names_changed = self.strike_names_of(sheet, &order);
         let name = std::mem::take(&mut self.sheets[sheet as usize].name);
         self.sheet_index.remove(&name.to_ascii_lowercase());
         self.sheets[sheet as usize] = Sheet::new(&name);
         self.sheets[sheet as usize].deleted = true;
+        // Off the grid now, the cells go back for new ones: a loop adding a sheet, filling
+        // it and deleting it met the cell limit in its ninth turn, one sheet left.
+        self.free(&cells);
         if self.active_sheet == sheet {
             self.active_sheet = successor.expect("a visible sheet is left");
         }
@@ -72,6 +75,7 @@ impl Workbook {
     fn deleted_record(&self, sheet: SheetId, place: usize) -> DeletedSheet {
         let inputs = (0..self.cells.len() as u32)
             .filter(|&id| self.cells[id as usize].sheet == sheet)
+            .filter(|&id| self.sheets[sheet as usize].get(self.cells[id as usize].pos) == Some(id))
             .filter_map(|id| {
                 let pos = self.cells[id as usize].pos;
                 self.input(sheet, pos).map(|input| (pos, input))
@@ -128,9 +132,15 @@ impl Workbook {
         Ok(())
     }
 
-    /// Clears every cell of `sheet`: formulas (and their spills) first, then values.
-    fn empty_sheet(&mut self, sheet: SheetId) {
-        let ids: Vec<u32> = (0..self.cells.len() as u32).filter(|&id| self.cells[id as usize].sheet == sheet).collect();
+    /// Clears every cell of `sheet`: formulas (and their spills) first, then values; its
+    /// cells' ids, for [`Workbook::free`] once the sheet's grid is gone.
+    fn empty_sheet(&mut self, sheet: SheetId) -> Vec<u32> {
+        let grid = &self.sheets[sheet as usize];
+        let on_sheet = |id: &u32| {
+            let c = &self.cells[*id as usize];
+            c.sheet == sheet && grid.get(c.pos) == Some(*id)
+        };
+        let ids: Vec<u32> = (0..self.cells.len() as u32).filter(on_sheet).collect();
         for &id in &ids {
             self.clear_formula(id);
         }
@@ -138,6 +148,7 @@ impl Workbook {
             self.take_spilled_cell(id);
             self.store_value(id, Value::Blank);
         }
+        ids
     }
 
     /// Every stored formula reading `sheet` with that reference struck to `#REF!`; the cells

@@ -131,7 +131,7 @@ impl Workbook {
     fn blank_cells_fit(&self, sheet: SheetId, rect: Rect) -> bool {
         let mut missing = 0;
         for_each_pos(rect, |pos| missing += self.sheets[sheet as usize].get(pos).is_none() as usize);
-        missing == 0 || self.cells.len() + missing <= MAX_CELLS / 2
+        missing == 0 || self.cell_count() + missing <= MAX_CELLS / 2
     }
 
     /// Undoes [`Workbook::add_edge`]; a small range may have been linked either way.
@@ -139,7 +139,11 @@ impl Workbook {
         if is_small(rect) {
             for_each_pos(rect, |pos| {
                 if let Some(p) = self.sheets[sheet as usize].get(pos) {
-                    self.cells[p as usize].dependents.remove(id);
+                    let cell = &mut self.cells[p as usize];
+                    cell.dependents.remove(id);
+                    if cell.formula == NO_FORMULA && cell.value.is_blank() && cell.dependents.as_slice().is_empty() {
+                        self.unlinked_blanks.push(p);
+                    }
                 }
             });
         }
@@ -170,12 +174,53 @@ impl Workbook {
         true
     }
 
+    /// Gives back the blank cells formulas stopped linking ([`Workbook::remove_edge`]) that
+    /// nothing links now and that hold nothing kept by cell: 600,000 `=SUM(B1:Q1)` made 9.6
+    /// million blank cells, and deleting or moving the formulas kept them, near the cell
+    /// limit for good. Called as a recalculation starts, when no edit is half done (an
+    /// insertion reuses emptied cells by id). A cell someone edited stays: the change log
+    /// names its place for a save.
+    pub(super) fn reclaim_unlinked_blanks(&mut self) {
+        if self.unlinked_blanks.is_empty() {
+            return;
+        }
+        let mut candidates = std::mem::take(&mut self.unlinked_blanks);
+        candidates.sort_unstable();
+        candidates.dedup();
+        candidates.retain(|&id| self.holds_nothing(id));
+        for &id in &candidates {
+            let c = &self.cells[id as usize];
+            self.sheets[c.sheet as usize].unset(c.pos);
+        }
+        self.free(&candidates);
+    }
+
+    /// Whether cell `id` is on its sheet's grid, blank, linked by no formula and kept for
+    /// nothing else (an edit the change log notes, a note, unparsed text, a place in a spill).
+    fn holds_nothing(&self, id: u32) -> bool {
+        let c = &self.cells[id as usize];
+        let edited = self.changes.as_ref().is_some_and(|log| log.inputs.contains(&id) || log.values.contains(id));
+        c.formula == NO_FORMULA
+            && c.value.is_blank()
+            && c.dependents.as_slice().is_empty()
+            && self.sheets[c.sheet as usize].get(c.pos) == Some(id)
+            && !edited
+            && !self.notes.contains_key(&id)
+            && !self.bad_inputs.contains_key(&id)
+            && self.spill.owner(id).is_none()
+            && self.spill.tail_at(c.sheet, c.pos).is_none()
+    }
+
     /// Rebuilds every edge (after a name changes meaning).
     pub(super) fn rebuild_graph(&mut self) {
         self.ranges.clear();
         // The recalculation that follows links run-time references again.
         self.dynamic_refs.clear();
-        for c in &mut self.cells {
+        for (id, c) in self.cells.iter_mut().enumerate() {
+            // A blank cell linked before may be linked by nothing after (`reclaim_unlinked_blanks`).
+            if !c.dependents.as_slice().is_empty() && c.formula == NO_FORMULA && c.value.is_blank() {
+                self.unlinked_blanks.push(id as u32);
+            }
             c.dependents = Deps::None;
         }
         for id in 0..self.cells.len() as u32 {

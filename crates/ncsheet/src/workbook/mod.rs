@@ -180,6 +180,13 @@ pub struct Workbook {
     /// The sheets' ids in tab order (`tabs.rs`): an id is fixed, a tab can move.
     tabs: tabs::Tabs,
     cells: Vec<Cell>,
+    /// Ids of `cells` that hold no cell (a deleted sheet's, blank cells no formula links any
+    /// more): a new cell takes one before `cells` grows, and [`MAX_CELLS`] counts without
+    /// them. Ids are never renumbered: the graph, the spills and the change log hold them.
+    free_cells: Vec<u32>,
+    /// Blank cells a formula stopped linking ([`Workbook::remove_edge`]), given back at the
+    /// next recalculation if nothing links them then (`links.rs`).
+    unlinked_blanks: Vec<u32>,
     formulas: FormulaStore,
     ranges: RangeIndex,
     names: Vec<DefinedName>,
@@ -283,6 +290,16 @@ impl CellBits {
             self.0.resize(word + 1, 0);
         }
         self.0[word] |= 1 << bit;
+    }
+
+    fn remove(&mut self, id: u32) {
+        if let Some(word) = self.0.get_mut(id as usize / 64) {
+            *word &= !(1 << (id % 64));
+        }
+    }
+
+    fn contains(&self, id: u32) -> bool {
+        self.0.get(id as usize / 64).is_some_and(|word| word & (1 << (id % 64)) != 0)
     }
 
     fn ids(&self) -> impl Iterator<Item = u32> + '_ {
@@ -546,7 +563,8 @@ impl Workbook {
         } else {
             changed.extend((0..self.cells.len() as u32).filter(|&id| {
                 let c = &self.cells[id as usize];
-                c.sheet == sheet && rect.contains(c.pos)
+                // A freed cell keeps the place it left, where no cell is now.
+                c.sheet == sheet && rect.contains(c.pos) && self.sheets[sheet as usize].get(c.pos) == Some(id)
             }));
         }
         self.recalculate_from(changed);
@@ -598,7 +616,7 @@ impl Workbook {
     /// order they are to be written), asked before the first is written, so that an edit
     /// past the limit is refused whole: the error names the first place with no room.
     pub fn room_for_all(&self, sheet: SheetId, places: impl IntoIterator<Item = Pos>) -> Result<(), WorkbookError> {
-        let mut count = self.cells.len();
+        let mut count = self.cell_count();
         for pos in places {
             if self.sheets[sheet as usize].get(pos).is_some() {
                 continue;
@@ -614,7 +632,7 @@ impl Workbook {
     /// [`Workbook::room_for_all`] of every cell of `rect`, row by row (a formula filled over
     /// it, a paste): quick when the workbook has room for the whole rectangle.
     pub fn room_for_rect(&self, sheet: SheetId, rect: Rect) -> Result<(), WorkbookError> {
-        if self.cells.len() as u64 + rect.rows() as u64 * rect.cols() as u64 <= MAX_CELLS as u64 {
+        if self.cell_count() as u64 + rect.rows() as u64 * rect.cols() as u64 <= MAX_CELLS as u64 {
             return Ok(());
         }
         let rows = rect.first.row..=rect.last.row;
@@ -627,16 +645,16 @@ impl Workbook {
     /// [`Workbook::room_for`] when `waiting` more cells are to be made later (a reader's
     /// copies of a shared formula whose text comes further on).
     pub fn room_after(&self, sheet: SheetId, pos: Pos, waiting: usize) -> Result<(), WorkbookError> {
-        if self.cells.len() + waiting < MAX_CELLS || self.sheets[sheet as usize].get(pos).is_some() {
+        if self.cell_count() + waiting < MAX_CELLS || self.sheets[sheet as usize].get(pos).is_some() {
             return Ok(());
         }
         Err(WorkbookError::TooManyCells(self.cell_name(sheet, pos)))
     }
 
-    /// The cells the workbook has made (blank ones a formula links to among them): what
-    /// [`MAX_CELLS`] bounds.
+    /// The cells the workbook holds (blank ones a formula links to among them; not those of
+    /// a deleted sheet, nor blank ones nothing links any more): what [`MAX_CELLS`] bounds.
     pub fn cell_count(&self) -> usize {
-        self.cells.len()
+        self.cells.len() - self.free_cells.len()
     }
 
     /// Sets a cell to a formula given as a tree (as if typed at `pos`) without recalculating
@@ -677,10 +695,15 @@ impl Workbook {
             None if value.is_blank() => return,
             None => self.cell_at(sheet, pos),
         };
+        let blank = value.is_blank();
         self.note_input(id);
         self.take_spilled_cell(id);
         self.clear_formula(id);
         self.store_value(id, value);
+        if blank && self.cells[id as usize].dependents.as_slice().is_empty() {
+            // Emptied and read by no formula: no cell, as in Excel (`reclaim_unlinked_blanks`).
+            self.unlinked_blanks.push(id);
+        }
     }
 
     /// Starts remembering which cells are edited and which change value (forgetting what
@@ -1094,10 +1117,35 @@ impl Workbook {
         if let Some(id) = self.sheets[sheet as usize].get(pos) {
             return id;
         }
-        let id = self.cells.len() as u32;
-        self.cells.push(Cell { value: Value::Blank, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+        let id = match self.free_cells.pop() {
+            Some(id) => id,
+            None => {
+                self.cells.push(Cell { value: Value::Blank, formula: NO_FORMULA, sheet, pos, dependents: Deps::None });
+                self.cells.len() as u32 - 1
+            }
+        };
         self.place_cell(id, sheet, pos);
         id
+    }
+
+    /// Gives back cells `ids`, each blank, with no formula and off its sheet's grid, for
+    /// [`Workbook::cell_at`] to reuse. What the change log noted of them goes: they are a
+    /// deleted sheet's, or blank cells no one edited (`links.rs`).
+    fn free(&mut self, ids: &[u32]) {
+        for &id in ids {
+            let cell = &mut self.cells[id as usize];
+            debug_assert!(cell.formula == NO_FORMULA, "a freed cell holds no formula");
+            (cell.value, cell.dependents) = (Value::Blank, Deps::None);
+            if let Some(log) = &mut self.changes {
+                log.inputs.remove(&id);
+                log.had_formula.remove(&id);
+                log.values.remove(id);
+            }
+            if !self.notes.is_empty() {
+                self.notes.remove(&id);
+            }
+        }
+        self.free_cells.extend_from_slice(ids);
     }
 
     /// Puts blank cell `id` at `pos`, where no cell is.

@@ -269,6 +269,7 @@ impl Workbook {
         if std::mem::take(&mut self.names_unlinked) {
             self.rebuild_graph();
         }
+        self.reclaim_unlinked_blanks();
         self.cycles.clear();
         self.iteration_cuts.clear();
         let sources: Vec<u32> =
@@ -279,6 +280,7 @@ impl Workbook {
     /// Recomputes what depends on `changed` (cells whose input was just set), and the volatile
     /// cells, which Excel recalculates at every edit.
     pub(super) fn recalculate_from(&mut self, mut changed: Vec<u32>) {
+        self.reclaim_unlinked_blanks();
         // A blocked spill may be freed by an edited cell; a volatile cell is still a formula
         // where it was, blocking what it blocked, so only the edited cells are looked up.
         if !self.spill.blocked.is_empty() {
@@ -845,14 +847,14 @@ impl Workbook {
     /// array limit, all of them together are not). The tail of one value makes no cells.
     fn spill_past_cell_limit(&self, sheet: crate::formula::ast::SheetId, anchor: Pos, a: &Array) -> Option<usize> {
         let stored = a.rows * a.cols;
-        if self.cells.len() + stored <= super::MAX_CELLS {
+        if self.cell_count() + stored <= super::MAX_CELLS {
             return None;
         }
         let last = Pos::new(anchor.row + a.rows as u32 - 1, anchor.col + a.cols as u32 - 1);
         let mut existing = 0;
         self.sheets[sheet as usize].for_each_in(Rect::new(anchor, last), &mut |_, _| existing += 1);
         let made = stored - existing;
-        (self.cells.len() + made > super::MAX_CELLS).then_some(made)
+        (self.cell_count() + made > super::MAX_CELLS).then_some(made)
     }
 
     /// Excel's `#SPILL!` for a spill it has no memory for ("Out of memory", How to correct a
