@@ -119,6 +119,33 @@ fn saving_over_the_input_workbook_is_refused() {
     assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
 }
 
+// "Workbook.Save method": "Saves changes to the specified workbook". ncsheet never writes the
+// file it opened (the test above), so `ThisWorkbook.Save` at the end of a real module (Kyostar1112's
+// CsvOut.bas: `ActiveWorkbook.Save`) is not a refused file statement: the run goes on, the input
+// stays as it was, and the changes are kept where --save says — or the user is told, with the
+// line of the Save, that nothing was written.
+#[test]
+fn workbook_save_keeps_the_changes_only_where_save_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let bas = write(dir.path(), "m.bas", "Sub Main()\n  [A1] = 2\n  ActiveWorkbook.Save\n  [A2] = 3\nEnd Sub\n");
+    let out = ncsheet(&["run", &book, &bas]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("m.bas:3: note: Workbook.Save: the workbook is not written") && err.contains("--save"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
+    let saved = dir.path().join("out.csv");
+    let out = ncsheet(&["run", &book, &bas, "--save", saved.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(!err.contains("Workbook.Save"), "{err}");
+    assert_eq!(std::fs::read_to_string(&saved).unwrap().lines().collect::<Vec<_>>(), ["2", "3"]);
+    assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
+}
+
 /// Issue 32: the shipped chamfer sheet and macro work together as README says: the csv's
 /// labelled rows are the macro's inputs, and the cut goes from T1 to T2 of DOMAIN.md §1
 /// (outer, α = 45°: XA 44.262742, ZA −4.6, XB 33.062742, ZB 1), as rs274 reads it.

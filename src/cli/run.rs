@@ -254,6 +254,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         }
     };
     print_output(&out)?;
+    note_unwritten_save(&out, args.save.is_some(), file);
     // Everything is computed before anything is written: a program that cannot be written
     // in the dialect, or a workbook that cannot be saved, leaves every file as it was.
     let mut files = Vec::new();
@@ -472,4 +473,16 @@ fn print_output(out: &RunOutput) -> Result<()> {
         eprintln!("{m}");
     }
     Ok(())
+}
+
+/// A macro that called `ThisWorkbook.Save` expects its changes kept: they are with `--save`
+/// (the workbook is written there at the end of the run); without it, the user is told.
+fn note_unwritten_save(out: &ncsheet::vba::RunOutput, saved: bool, file: &std::path::Path) {
+    if let (Some(line), false) = (out.saves.first(), saved) {
+        eprintln!(
+            "ncsheet: {}:{line}: note: Workbook.Save: the workbook is not written (ncsheet never writes the file it \
+             opened); give --save OUT to keep the macro's changes",
+            file.display()
+        );
+    }
 }

@@ -643,6 +643,10 @@ pub struct RunOutput {
     /// The statements and loop turns the run counted against [`RunOptions::max_statements`]
     /// (what the benchmark divides its time by).
     pub statements: u64,
+    /// The lines of the macro's `ThisWorkbook.Save` / `ActiveWorkbook.Save` calls: ncsheet
+    /// never writes its input, so the caller saves the workbook where `--save` says, or tells
+    /// the user it was not written.
+    pub saves: Vec<u32>,
 }
 
 impl RunOutput {
@@ -655,6 +659,7 @@ impl RunOutput {
             removed: Vec::new(),
             looks: Vec::new(),
             statements: 0,
+            saves: Vec::new(),
         }
     }
 

@@ -211,6 +211,15 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `ThisWorkbook.Save`: "Saves changes to the specified workbook" ("Workbook.Save
+    /// method"). ncsheet never writes its input file: the run notes the call, and the command
+    /// saves the workbook where `--save` says, or says it was not written.
+    #[inline(never)]
+    fn workbook_save(&self, link: &Link) -> Run<Obj> {
+        self.out.borrow_mut().saves.push(link.span.line);
+        Ok(Obj::Value(Value::Blank))
+    }
+
     /// The refusal of a file dialog (`Application.GetSaveAsFilename` …): no user answers it.
     /// `On Error` may trap it, as real drivers do to run the rest of a macro without its file.
     fn no_dialog(&self, link: &Link) -> crate::vba::interp::Fault {
@@ -262,6 +271,7 @@ impl Interp<'_, '_> {
                 "worksheets" | "sheets" | "activesheet" => self.root(ctx, link),
                 "path" => self.workbook_path(link),
                 "name" => self.workbook_name(link),
+                "save" if link.args.is_none() => self.workbook_save(link),
                 _ => self.unmodelled(&Obj::Workbook, link),
             },
             Obj::Sheets => match name.as_str() {

@@ -56,6 +56,18 @@ pub(super) const FORBIDDEN: &[&str] = &[
     "workbooks",
 ];
 
+/// `ThisWorkbook.Save` or `ActiveWorkbook.Save` without arguments: the run notes it and the
+/// command saves where `--save` says (`objects.rs`), so it is not a file statement.
+fn is_workbook_save(path: &Path, i: usize) -> bool {
+    let first = lower_bare(&path.links[0].name);
+    i == 1
+        && !path.with
+        && path.links.len() == 2
+        && path.links[0].args.is_none()
+        && path.links[1].args.is_none()
+        && matches!(first.as_str(), "thisworkbook" | "activeworkbook")
+}
+
 pub(super) fn refusal(name: &str) -> String {
     format!(
         "{name}: a macro cannot touch files or run programs (the language has no Kill, Shell, \
@@ -806,7 +818,7 @@ impl Build<'_> {
             let is_var = i == 0 && !path.with && self.is_var(&link.name);
             // A TextStream's `ts.Close` (`files.rs`), once the run has files.
             let member_close = self.files && i > 0 && lower == "close";
-            if FORBIDDEN.contains(&lower.as_str()) && !is_var && !member_close {
+            if FORBIDDEN.contains(&lower.as_str()) && !is_var && !member_close && !is_workbook_save(path, i) {
                 return Err(self.error_at(pair, refusal(&link.name)));
             }
         }
