@@ -1149,3 +1149,90 @@ fn o_codes_that_cannot_run_are_refused_at_their_line() {
         assert!(e.message.contains(message), "{text:?}: {e}");
     }
 }
+
+/// LinuxCNC's predefined named parameters (the manual's "Predefined Named Parameters":
+/// `#<_x>`, `#<_feed>`, `#<_rpm>`, `#<_metric>`, `#<_absolute>`, `#<_coord_system>`,
+/// `#<_motion_mode>`, `#<_line>`, `#<_call_level>` …) read the control's modal state: the
+/// moves our reader makes of programs that compute with them are the moves rs274 makes (a
+/// lathe's `#<_x>` is the radius in G7 too; `#<_x>` after G20 is in inches; EQ and NE within
+/// 0.0001, GE and LE exact as in LinuxCNC 2.9.0).
+#[test]
+fn predefined_parameters_move_as_rs274_moves_them() {
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let programs = [
+        "G21 G90 G17 G94\nG0 X[#<_motion_mode> / 100] Y[#<_plane> / 100] Z[#<_ccomp> / 100]\n\
+         G0 X[#<_metric> + #<_absolute> * 2 + #<_imperial> * 4 + #<_incremental> * 8] Y[#<_coord_system> / 100] \
+         Z[#<_units_per_minute> + #<_units_per_rev> * 2 + #<_inverse_time> * 4]\nS800 M3\n\
+         G1 X[#<_x> + 10] Y[#<_y> - 1] Z[#<_feed> / 100] F120\nG1 X[#<_rpm> / 100] Y#<_spindle_on> Z[#<_spindle_cw> + #<_feed> / 100]\n\
+         M4\nG0 X#<_spindle_cw> Y#<_line> Z#<_call_level>\nM8\nG0 X#<_flood> Y#<_mist> Z[#<_vmajor> + #<_vminor>]\n\
+         G2 X[#<_x> + 2] Y#<_y> R1 F100\nG0 X#<_motion_mode> Y[EXISTS[#<_x>]] Z[#<_value> + #<_value_returned>]\n\
+         G91\nG0 X#<_incremental> Y#<_absolute>\nG90 G20\n#<inch> = #<_x>\nG21\n\
+         G0 X[#<inch> * 25.4 + 1] Y[#<_spindle_rpm_mode> + #<_spindle_css_mode> * 2] Z[#<_lathe_radius_mode> + #<_ijk_absolute_mode> * 2]\n\
+         G0 X[1 EQ 1.0001] Y[100 EQ 100.0001] Z[[1 GE 1.00005] + [1.00005 LE 1] * 2 + [1 NE 0.9999] * 4]\n\
+         G0 X[#<_retract_r_plane> + #<_retract_old_z> * 2] Y[#<_feed_override> + #<_speed_override> + #<_feed_hold> + #<_adaptive_feed>] Z#<_remap_level>\n\
+         G94\nG1 X[#<_feed> + 5] Y[#<_units_per_minute>] F50\nG1 X[#<_feed> / 10]\no100 sub\n  G0 X#<_call_level> Y#<_line> Z[#<_x> + 0.5]\n\
+         o100 endsub\no100 call\nM5 M9\nG0 X[#<_spindle_on> + #<_flood> * 2] Y3 Z3\nM2\n",
+        "G21 G90 G18 G7\nG0 X20 Z5\nG0 X[#<_x> * 4] Z[#<_lathe_diameter_mode> + #<_plane> / 100]\nG8\n\
+         G0 X#<_x> Z[#<_lathe_radius_mode> + #<_z>]\nG96 S150 D2000 M3\nG95\n\
+         G1 X[#<_rpm> / 10] Z[#<_spindle_css_mode> + #<_units_per_rev> + #<_feed>] F0.1\nG97 S500\n\
+         G1 X[#<_x> - 1] Z[#<_spindle_rpm_mode> - #<_rpm> / 100 + #<_feed>]\nM2\n",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, text) in programs.iter().enumerate() {
+        let path = dir.path().join(format!("predefined{i}.ngc"));
+        std::fs::write(&path, text).unwrap();
+        let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected program {i}:\n{e}\n{text}"));
+        let ours = our_moves(&read::read(text, Family::LinuxCnc, None).unwrap_or_else(|e| panic!("program {i}: {e}")));
+        assert!(theirs.len() >= 5, "program {i} moves too little to show anything: {theirs:?}");
+        assert!(same_moves(&ours, &theirs), "program {i}:\nours   {ours:?}\nrs274 {theirs:?}\n{text}");
+    }
+}
+
+/// What the reader cannot know of the control's state is refused by name at its line and
+/// column, never read as 0: where an axis is before the program moves it or after cutter
+/// compensation moved it, the tool before the first change, machine coordinates (`#<_abs_x>`,
+/// G53), the tool table, preview or machine (`#<_task>`). A predefined parameter is read-only
+/// as on LinuxCNC, and a cut after a feed mode word without a new F is refused as rs274
+/// refuses it (it sets the feed to 0 there), where the F before it was carried over.
+#[test]
+fn predefined_parameters_the_reader_cannot_know_are_refused_by_name() {
+    let cases = [
+        ("G0 X#<_x>", 5, "before the program moves X", false),
+        ("G0 X1 Y1\nG0 Z[#<_z> + 1]", 6, "before the program moves Z", false),
+        ("G0 X#<_current_tool>", 5, "first tool change", false),
+        ("G0 X#<_abs_x>", 5, "machine coordinate", false),
+        ("G0 X#<_tool_offset>", 5, "tool table", false),
+        ("G0 X#<_current_pocket>", 5, "pocket", false),
+        ("G0 X#<_task>", 5, "preview", false),
+        ("G0 X#<_u>", 5, "does not move", false),
+        ("G0 X#<_ini[axis_0]max_velocity>", 5, "INI file", false),
+        ("G0 X0 Y0 Z0\n#<_x> = 5", 1, "read-only", true),
+        ("#<_value> = 1", 1, "read-only", true),
+        ("G0 X0 Y0 Z0\nG53 G0 Z0", 1, "machine coordinates", false),
+        ("G0 X0 Y0 Z0\nG1 X1 F100\nG94\nG1 X2", 1, "a cut with no feed", true),
+        ("G0 X0 Y0 Z0\nG1 X1 F100\nG95\nG2 X2 Y1 R1", 1, "a cut with no feed", true),
+    ];
+    let check_rs274 = rs274::available();
+    for (body, column, message, rs274_refuses) in cases {
+        let text = format!("G21 G90 G17\n{body}\nM2\n");
+        let e = read::read(&text, Family::LinuxCnc, None).expect_err(body);
+        let line = 1 + body.lines().count();
+        assert_eq!((e.line, e.column), (line, column), "{body}: {e}");
+        assert!(e.message.contains(message), "{body}: {e}");
+        if rs274_refuses && check_rs274 {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("e.ngc");
+            std::fs::write(&path, &text).unwrap();
+            assert!(rs274::moves(&path).is_err(), "rs274 reads {body:?}, which we refuse");
+        }
+    }
+    // After G40 an axis is known again once a move writes it; the one it does not write is not.
+    let compensated =
+        "G21 G90 G17\nT1 M6\nG0 X0 Y0 Z1\nG41 D1\nG1 X10 Y0 F100\nG40\nG1 X20\nG0 X[#<_x> + 1] Z#<_z>\nG0 Y#<_y>\nM2\n";
+    let e = read::read(compensated, Family::LinuxCnc, None).unwrap_err();
+    assert_eq!((e.line, e.column), (9, 5), "{e}");
+    assert!(e.message.contains("cutter compensation"), "{e}");
+}

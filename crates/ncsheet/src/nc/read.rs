@@ -20,6 +20,7 @@ mod flow;
 pub mod heidenhain;
 mod nc31;
 pub mod parameters;
+mod predefined;
 
 pub(crate) use nc31::called as nc31_called;
 pub(crate) use nc31::subprogram as nc31_subprogram;
@@ -120,6 +121,15 @@ struct State {
     /// The first D word of a G41/G42 (Fanuc, LinuxCNC) and whether it was the tool's own
     /// number: the model holds one radius register for the program, or each tool's own.
     radius_register: Option<(u32, bool)>,
+    /// The F in force as written; `None` from power on and, on LinuxCNC, after a G93/G94/G95.
+    feed: Option<f64>,
+    /// LinuxCNC set the feed to 0 at a feed mode word after an F was in force: a cut must
+    /// give F again (rs274: "Cannot do g1 with zero feed rate").
+    feed_cleared: bool,
+    per_revolution: bool,
+    flood: bool,
+    /// The axes X Y Z a move under cutter compensation left off their programmed values.
+    compensated: [bool; 3],
 }
 
 /// Reads `text` as `family` writes it. `machine` says what the program is for; without it a
@@ -160,6 +170,11 @@ pub fn read_with_lines(
         selected: None,
         register: None,
         radius_register: None,
+        feed: None,
+        feed_cleared: false,
+        per_revolution: false,
+        flood: false,
+        compensated: [false; 3],
     };
     let mut program = Program::new("", machine.unwrap_or(Machine::Mill));
     if family == Family::Nc31 {
@@ -249,7 +264,13 @@ pub fn read_with_lines(
             started = true;
             let finest = words.iter().filter(|w| "XYZABCIJKRUW".contains(w.letter)).map(|w| w.decimals).max();
             decimals = decimals.max(finest.unwrap_or(0));
+            let before = program.blocks.len();
             ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+            if family == Family::LinuxCnc {
+                let moved = program.blocks[before..].iter().any(is_move);
+                note_compensated(&mut st, &words, moved);
+                control_state(&st, &mut parameters.control);
+            }
             // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
             if let Some(c) = comment.filter(|c| !c.is_empty()) {
                 program.blocks.push(Block::Comment(c));
@@ -264,6 +285,78 @@ pub fn read_with_lines(
     program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
     program.radius_offset = st.radius_register.and_then(|(d, own)| (!own).then_some(d));
     Ok((program, lines))
+}
+
+/// After a block that moved: with cutter compensation on, the plane's axes are off their
+/// programmed values; with it off, an axis the block wrote is where the program said.
+fn note_compensated(st: &mut State, words: &[Word], moved: bool) {
+    if !moved {
+        return;
+    }
+    if st.compensation != Compensation::Off {
+        let plane = match st.plane {
+            Plane::Xy => [0, 1],
+            Plane::Zx => [2, 0],
+            Plane::Yz => [1, 2],
+        };
+        plane.iter().for_each(|&i| st.compensated[i] = true);
+        return;
+    }
+    for (i, letter) in ['X', 'Y', 'Z'].iter().enumerate() {
+        if words.iter().any(|w| w.letter == *letter) {
+            st.compensated[i] = false;
+        }
+    }
+}
+
+/// The reader's state as LinuxCNC's predefined parameters read it (`#<_x>`, `#<_feed>` …):
+/// positions in the program's units, a lathe's X as a radius (rs274 reports the radius in
+/// G7 too).
+fn control_state(st: &State, c: &mut predefined::Control) {
+    let lathe = st.machine == Some(Machine::Lathe);
+    for (i, axis) in c.axes.iter_mut().enumerate() {
+        *axis = match st.position[i] {
+            None => predefined::Axis::Unknown,
+            Some(_) if i < 3 && st.compensated[i] => predefined::Axis::Compensated,
+            Some(mut v) => {
+                if i == 0 && lathe {
+                    v /= 2.0;
+                }
+                if i < 3 && st.inches {
+                    v /= 25.4;
+                }
+                predefined::Axis::At(v)
+            }
+        };
+    }
+    c.feed = st.feed.unwrap_or(0.0);
+    c.speed = st.speed.unwrap_or(0.0);
+    c.inches = st.inches;
+    c.incremental = st.incremental;
+    c.motion_mode = match st.motion {
+        None => 800,
+        Some(Motion::Rapid) => 0,
+        Some(Motion::Line) => 10,
+        Some(Motion::Arc(ArcDirection::Clockwise)) => 20,
+        Some(Motion::Arc(ArcDirection::CounterClockwise)) => 30,
+    };
+    c.plane = match st.plane {
+        Plane::Xy => 170,
+        Plane::Zx => 180,
+        Plane::Yz => 190,
+    };
+    c.compensation = match st.compensation {
+        Compensation::Off => 400,
+        Compensation::Left => 410,
+        Compensation::Right => 420,
+    };
+    c.per_revolution = st.per_revolution;
+    c.surface_speed = st.surface_speed;
+    c.diameter = st.diameter;
+    c.spindle = st.running.map(|d| d == SpindleDirection::Clockwise);
+    c.flood = st.flood;
+    c.tool = st.tool;
+    c.selected = st.selected;
 }
 
 /// The blocks of one line of text. On a Fanuc control `;` is the end of block (EOB: the
@@ -657,6 +750,7 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
     if let Some(m) = feed_mode {
         out.push(Block::FeedMode(m));
     }
+    note_feed(st, feed_mode, find('F'));
     if let Some((n, column)) = changes_tool(st, find('T'), m6)? {
         out.push(Block::Tool(tool_change(st, words, n, column, length)?));
     } else if let Some(offset) = length_offset(st, words, length)? {
@@ -709,6 +803,7 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
         st.compensation = c;
     }
     if let Some(on) = coolant {
+        st.flood = on;
         out.push(Block::Coolant(on));
     }
     if dwell {
@@ -721,6 +816,22 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
         out.push(m);
     }
     Ok(end)
+}
+
+/// The feed in force after a block's feed mode word and F. LinuxCNC sets the feed to 0 at
+/// every G93/G94/G95, the mode it is in already too: the F before it does not carry over.
+fn note_feed(st: &mut State, feed_mode: Option<FeedMode>, f: Option<&Word>) {
+    if let Some(m) = feed_mode {
+        st.per_revolution = m == FeedMode::PerRevolution;
+        if st.family == Family::LinuxCnc {
+            st.feed_cleared |= st.feed.is_some();
+            st.feed = None;
+        }
+    }
+    if let Some(f) = f {
+        st.feed = Some(f.value);
+        st.feed_cleared = false;
+    }
 }
 
 /// The offset register `register` (none: cancelled) as the model names it, where `own` is
@@ -755,9 +866,11 @@ fn changes_tool(st: &mut State, t: Option<&Word>, m6: Option<usize>) -> Result<O
         };
     };
     let n = code(t)?;
-    if selects && m6.is_none() {
+    if selects {
         st.selected = Some(n);
-        return Ok(None);
+        if m6.is_none() {
+            return Ok(None);
+        }
     }
     Ok(Some((n, t.column)))
 }
@@ -951,6 +1064,9 @@ fn g_code(
 ) -> Result<(), Fail> {
     let lathe = st.machine == Some(Machine::Lathe);
     let unsupported = || Err((w.column, format!("G{} is not a code this reader knows", w.value)));
+    if w.value == 53.0 && st.family != Family::Nc31 {
+        return Err((w.column, machine_coordinates(st.family)));
+    }
     if w.value.fract() != 0.0 {
         return unsupported();
     }
@@ -1019,6 +1135,17 @@ fn system_a(code: i64) -> String {
         94 => cycle("the end-face turning cycle B", "feed per minute (that is G98)"),
         _ => format!("{system_a} there is no G{code}: incremental moves are written with U and W"),
     }
+}
+
+/// Why G53 is refused: its move's end is in machine coordinates, which are the program's
+/// shifted by the work offset and the tool length the control holds (LinuxCNC, Fanuc mill);
+/// read as the program's coordinates the move would go elsewhere.
+fn machine_coordinates(family: Family) -> String {
+    let offsets = if family == Family::Sinumerik { "G54–G57, G500, TRANS" } else { "G54–G59, G92" };
+    format!(
+        "G53 moves in machine coordinates, which are the program's shifted by the control's work offset \
+         ({offsets}) and tool length: ncsheet does not model them, so it cannot say where the move goes"
+    )
 }
 
 fn set_motion(st: &mut State, w: &Word, word: &mut Option<usize>, m: Motion) {
@@ -1097,6 +1224,14 @@ fn motion_block(
     }
     let feed = find('F').map(|f| f.value * scale);
     let column = motion_word.unwrap_or(words[0].column);
+    if st.feed_cleared && motion != Motion::Rapid {
+        return Err((
+            column,
+            "a cut with no feed: LinuxCNC sets the feed to 0 at G93/G94/G95, so the F before it does not carry \
+             over (give F after the feed mode)"
+                .into(),
+        ));
+    }
     Ok(Some(match motion {
         Motion::Rapid => {
             if let Some(w) = arc_words.or(find('F')) {

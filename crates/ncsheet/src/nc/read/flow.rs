@@ -77,6 +77,8 @@ impl<'t> Flow<'t> {
             let at = self.next;
             self.next += 1;
             self.charge(at)?;
+            params.control.line = at + 1;
+            params.control.call_level = self.calls.len();
             match self.codes[at].clone() {
                 None => return Ok(Some((self.lines[at], at))),
                 Some(code) => self.run(at, &code, params)?,

@@ -11,10 +11,12 @@
 //! just started. #5001–#5601 hold the control's state (probe results, homes, work offsets, the
 //! tool, the position): read before the program sets one, or set when it changes a work
 //! offset or the tool, they are refused by name rather than taken as 0. A named parameter
-//! must be set before it is read.
+//! must be set before it is read, except LinuxCNC's predefined ones (`#<_x>`, `#<_feed>` …:
+//! [`predefined`]), which are read-only.
 
 use std::collections::HashMap;
 
+use super::predefined::{self, Control};
 use super::{quoted_briefly, Fail};
 
 /// The deepest nesting of brackets and functions one value may have: the reader descends
@@ -58,6 +60,8 @@ impl std::fmt::Display for Name {
 #[derive(Default)]
 pub struct Parameters {
     values: HashMap<Name, f64>,
+    /// The control's state the predefined parameters (`#<_x>`, `#<_feed>` …) read.
+    pub(super) control: Control,
 }
 
 /// One `#… = value` of a line, applied once the line is read.
@@ -121,9 +125,23 @@ impl Parameters {
                      work offsets, the tool, the position), which ncsheet does not model"
                 ),
             )),
-            Name::Named(s) => Err((column, format!("#<{s}> is read before the program sets it"))),
+            Name::Named(s) => match self.control.value(s) {
+                Some(v) => v.map_err(|m| (column, m)),
+                // `#<_value>` and `#<_value_returned>` before any subroutine returned.
+                None if predefined::is_predefined(s) => Ok(0.0),
+                None => Err((column, unset_named(s))),
+            },
         }
     }
+}
+
+/// Why the named parameter `s` has no value: not set yet, or the control's (an INI file's
+/// entry `#<_ini[section]name>`, a HAL pin `#<_hal[pin]>`).
+fn unset_named(s: &str) -> String {
+    if s.starts_with("_ini[") || s.starts_with("_hal[") {
+        return format!("#<{s}> reads the control's INI file or HAL, which ncsheet does not have");
+    }
+    format!("#<{s}> is read before the program sets it")
 }
 
 /// Reads a `#… = value` setting whose `#` is at `from`; returns it and where it ends.
@@ -138,6 +156,14 @@ pub fn setting(chars: &[char], from: usize, params: &Parameters) -> Result<(Sett
                     "setting #{n} changes the control's state (a work offset, a home, the tool): ncsheet does not \
                      model it; set work offsets with the control"
                 ),
+            ));
+        }
+    }
+    if let Name::Named(s) = &name {
+        if predefined::is_predefined(s) {
+            return Err((
+                from + 1,
+                format!("#<{s}> is read-only: LinuxCNC's predefined parameters hold the control's state"),
             ));
         }
     }
@@ -499,7 +525,10 @@ impl Reader<'_> {
             return Err((open, "an expression that is not closed by `]`".into()));
         }
         self.at += 1;
-        let set = matches!(name, Name::Numbered(_)) || self.params.values.contains_key(&name);
+        let set = match &name {
+            Name::Numbered(_) => true,
+            Name::Named(s) => predefined::is_predefined(s) || self.params.values.contains_key(&name),
+        };
         Ok(if set { 1.0 } else { 0.0 })
     }
 
