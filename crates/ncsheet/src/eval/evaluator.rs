@@ -1766,14 +1766,23 @@ pub fn broadcast_whole(values: &[&Value], f: &dyn Fn(&[Value]) -> Value) -> Valu
         }
         other => other.clone(),
     };
-    let at = |r: usize, c: usize| f(&values.iter().map(|v| item(v, r, c)).collect::<Vec<_>>());
+    // The texts read and made are counted as broadcast2's and map_items' are: a whole column
+    // of long texts compared with another read without limit.
+    let mut text = super::value::TextBudget::default();
+    let mut at = |r: usize, c: usize| {
+        let operands: Vec<Value> = values.iter().map(|v| item(v, r, c)).collect();
+        operands.iter().for_each(|v| text.read(v));
+        let made = f(&operands);
+        text.take(&made).then_some(made)
+    };
     if too_many_items(stored.0, stored.1) {
         return Value::Error(XlError::Num);
     }
     let mut data = Vec::with_capacity(stored.0 * stored.1);
     for r in 0..stored.0 {
         for c in 0..stored.1 {
-            data.push(at(r, c));
+            let Some(made) = at(r, c) else { return Value::Error(XlError::Num) };
+            data.push(made);
         }
     }
     let array = Array::new(stored.0, stored.1, data);
@@ -1793,9 +1802,16 @@ pub fn broadcast_whole(values: &[&Value], f: &dyn Fn(&[Value]) -> Value) -> Valu
         places.extend((0..whole.1.min(stored.1 + 1)).map(|c| (stored.0, c)));
     }
     let Some(&(r0, c0)) = places.first() else { return Value::Array(Rc::new(array)) };
-    let fill = at(r0, c0);
-    if !even || places.iter().any(|&(r, c)| at(r, c) != fill) {
+    if !even {
         return Value::Array(Rc::new(array));
+    }
+    let Some(fill) = at(r0, c0) else { return Value::Error(XlError::Num) };
+    for &(r, c) in &places {
+        match at(r, c) {
+            None => return Value::Error(XlError::Num),
+            Some(v) if v != fill => return Value::Array(Rc::new(array)),
+            Some(_) => {}
+        }
     }
     Value::Array(Rc::new(array.with_tail(whole.0, whole.1, fill)))
 }

@@ -91,7 +91,8 @@ pub const MAX_ARRAY_TEXT_BYTES: usize = 1 << 28;
 /// operands together: a comparison or a FIND of two arrays of long texts makes small items
 /// but reads each pair whole (100 × 4,000 texts of 30,000 characters compared took 53 s; a
 /// SEARCH of 100,000 needles in one 32,000-character text, 77 s). Counted by [`TextBudget`]
-/// as the items are made: 512 MiB, about a second of comparing, 13 s of SEARCH, the slowest.
+/// as the items are made (TEXTSPLIT and its kin count the text once per delimiter): 512 MiB,
+/// about a second of comparing, 5 s of SEARCH of distinct texts not ASCII, the slowest.
 pub const MAX_ARRAY_TEXT_READ: usize = 1 << 29;
 
 /// The text bytes of an array's items so far, against [`MAX_ARRAY_TEXT_BYTES`], and of the

@@ -138,7 +138,11 @@ pub fn lift_values(values: &[Value], f: &dyn Fn(&[Value]) -> XlResult<Value>) ->
     };
     if values.iter().any(|v| matches!(v, Value::Array(a) if a.tail.is_some())) {
         let refs: Vec<&Value> = values.iter().collect();
-        return Ok(broadcast_whole(&refs, &|v| f(v).unwrap_or_else(Value::Error)));
+        // Its only error is its own refusal (too many items or texts), for the caller to explain.
+        return match broadcast_whole(&refs, &|v| f(v).unwrap_or_else(Value::Error)) {
+            Value::Error(e) => Err(e),
+            whole => Ok(whole),
+        };
     }
     if too_many_items(rows, cols) {
         return Err(XlError::Num);
