@@ -331,3 +331,30 @@ fn a_range_an_expression_gives_is_indexed_by_its_item() {
     );
     assert_eq!(out, ["$B$3$C$2$B$3", "$A$4", "next"]);
 }
+
+// "Application.Selection property": "Returns the currently selected object on the active
+// worksheet"; "Application.ActiveCell property": the active cell, one cell of that selection.
+// A workbook saved with A4:C9 selected and A4 active (`<selection activeCell="A4"
+// sqref="A4:C9"/>`) starts a macro with that range as Selection, so a real module working on
+// the user's selection (jmarcellusc's DeleteBlankRows: `Set SourceRange =
+// Application.Selection`) sees its 6 rows. A saved range that does not hold the active cell is
+// not Excel's, and the active cell alone is the selection then.
+#[test]
+fn selection_starts_as_the_range_the_file_saved() {
+    let run = |selection: &str| {
+        let mut wb = Workbook::with_sheet();
+        let sheet = wb.sheet_names()[0].clone();
+        let active = ncsheet::formula::address::parse_cell("A4").unwrap();
+        let rect = ncsheet::formula::address::parse_rect(selection).unwrap();
+        let options = RunOptions {
+            active_cells: vec![(sheet.clone(), active)],
+            selections: vec![(sheet, rect)],
+            ..RunOptions::default()
+        };
+        let src =
+            "Sub Main()\nDebug.Print Selection.Address; \" \"; ActiveCell.Address; Selection.Rows.Count\nEnd Sub\n";
+        vba::run(&mut wb, src, "Module1.bas", &options).unwrap_or_else(|e| panic!("{e}")).printed
+    };
+    assert_eq!(run("A4:C9"), ["$A$4:$C$9 $A$4 6 "]);
+    assert_eq!(run("B5:C9"), ["$A$4 $A$4 1 "]);
+}

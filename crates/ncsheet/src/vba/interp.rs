@@ -80,7 +80,7 @@ pub fn run(
     let cursors = options
         .active_cells
         .iter()
-        .filter_map(|(sheet, pos)| Some((wb.sheet_id(sheet)?, (Rect::cell(*pos), *pos))))
+        .filter_map(|(sheet, pos)| Some((wb.sheet_id(sheet)?, (saved_selection(options, sheet, *pos), *pos))))
         .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
@@ -3279,4 +3279,11 @@ fn lent_args(bound: Vec<(usize, Var)>, lent: &[(usize, Rc<str>)]) -> Vec<(Var, (
 enum Counting {
     Double { end: f64, step: f64, step_ty: Declared, held: Declared },
     LongLong { last: i64, step: i64 },
+}
+
+/// The selection `sheet` starts with: the range the file saved when it holds the active cell
+/// (Excel keeps the active cell inside the selection), else the active cell alone.
+fn saved_selection(options: &RunOptions, sheet: &str, active: Pos) -> Rect {
+    let saved = options.selections.iter().find(|(name, _)| name == sheet).map(|&(_, rect)| rect);
+    saved.filter(|r| r.contains(active)).unwrap_or(Rect::cell(active))
 }
