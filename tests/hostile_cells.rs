@@ -167,6 +167,10 @@ End Sub
     let lines: Vec<&str> = run.stderr.lines().filter(|l| !l.starts_with("ncsheet:")).collect();
     let refusal = "Sheet1!F932068: a workbook holds at most 8388608 cells";
     assert!(lines.len() == 3 && lines.iter().all(|l| l.contains(refusal)), "{}", run.stderr);
+    // Err.Number is 1004, Excel's for a range write it cannot do (Microsoft KB 832136, "You
+    // may receive a 'Run-time error 1004' error message when you programmatically set a
+    // large array string to a range"); the description is the message naming the cell.
+    assert!(lines.iter().all(|l| l.starts_with("1004Sheet1!F932068")), "{}", run.stderr);
     assert!(lines[0].ends_with("|x|"), "nothing of the fill is written: {}", lines[0]);
     assert!(lines[1].ends_with('|'), "nothing of the paste is written: {}", lines[1]);
     assert!(lines[2].ends_with("|1|"), "nothing of the .Value = is written: {}", lines[2]);

@@ -3118,7 +3118,9 @@ impl Interp<'_, '_> {
             }
             other => other.clone(),
         };
-        room_for_write(&wb, sheet, rect, &item_at).map_err(|e| self.fault(one_line(&e)))?;
+        // A blank written where no cell is makes none.
+        let filled = |pos| !input_text(&item_at(pos)).is_empty();
+        wb.room_for_filled(sheet, rect, filled).map_err(|e| self.fault(one_line(&e)))?;
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
                 let pos = Pos::new(row, col);
@@ -3128,23 +3130,6 @@ impl Interp<'_, '_> {
         wb.recalculate_rect(sheet, rect);
         Ok(())
     }
-}
-
-/// Whether the workbook has room for every cell a `.Value =` over `rect` fills, checked
-/// before the first is written, so that a write past the cell limit changes nothing (it
-/// stopped at the cell past the limit with the cells before it written).
-fn room_for_write(
-    wb: &Workbook,
-    sheet: SheetId,
-    rect: Rect,
-    item_at: &dyn Fn(Pos) -> Value,
-) -> Result<(), WorkbookError> {
-    if wb.cell_count() as u64 + rect.rows() as u64 * rect.cols() as u64 <= crate::workbook::MAX_CELLS as u64 {
-        return Ok(());
-    }
-    let rows = rect.first.row..=rect.last.row;
-    let places = rows.flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col)));
-    wb.room_for_all(sheet, places.filter(|&pos| !input_text(&item_at(pos)).is_empty()))
 }
 
 /// The deepest GoSubs nest without a Return (each level is a few native stack frames: the
@@ -3203,6 +3188,11 @@ fn err_state(fault: &Fault) -> ErrState {
         0 if m.contains("Invalid use of Null") => 94,
         0 if m.contains("type mismatch") || m.contains("not a number") => 13,
         0 if m.contains("out of range") || m.contains("subscript") => 9,
+        // A write, paste or sort past the workbook's cells, or a sheet past its sheets
+        // (`WorkbookError`'s words): Excel's number for a Range write it cannot do (Microsoft
+        // KB 832136: a range's value Excel cannot take is "Run-time error 1004"), the
+        // message naming the cell kept as the description.
+        0 if m.contains("a workbook holds at most") => 1004,
         0 => 5,
         n => n,
     };

@@ -8,7 +8,7 @@ use std::rc::Rc;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 use crate::formula::ast::SheetId;
-use crate::workbook::{Visibility, WorkbookError, MAX_CELLS, MAX_SHEETS};
+use crate::workbook::{Visibility, WorkbookError, MAX_SHEETS};
 
 use super::ast::{Link, Span};
 use super::interp::{Fault, Interp, Run};
@@ -431,21 +431,15 @@ impl Interp<'_, '_> {
         how: Paste,
     ) -> Result<(), WorkbookError> {
         let wb = self.wb.borrow();
-        let cells = area.rows() as u64 * area.cols() as u64;
-        if wb.cell_count() as u64 + cells <= MAX_CELLS as u64 {
-            return Ok(());
-        }
         let source_of = |q: Pos| {
             let (row, col) = (q.row - area.first.row, q.col - area.first.col);
             Pos::new(source.first.row + row % source.rows(), source.first.col + col % source.cols())
         };
-        let filled = |q: &Pos| {
-            let p = source_of(*q);
+        let filled = |q: Pos| {
+            let p = source_of(q);
             (how == Paste::Inputs && wb.is_formula(from, p)) || !wb.value(from, p).is_blank()
         };
-        let rows = area.first.row..=area.last.row;
-        let places = rows.flat_map(|row| (area.first.col..=area.last.col).map(move |col| Pos::new(row, col)));
-        wb.room_for_all(to, places.filter(filled))
+        wb.room_for_filled(to, area, filled)
     }
 }
 

@@ -349,15 +349,15 @@ impl Interp<'_, '_> {
         let width = (right - left + 1) as usize;
         // A row moving where its cells have none makes them: past the workbook's cell
         // limit, the sort is refused before a cell is written.
-        let filled =
-            order.iter().enumerate().filter_map(|(to, &from)| Some((to, rows[from.filter(|&f| f != to)?].as_ref()?)));
-        let places = filled.flat_map(|(to, row)| {
-            let kept = row.iter().enumerate().filter(|(_, c)| !matches!(c, Content::Value(Value::Blank)));
-            kept.map(move |(i, _)| Pos::new(first + to as u32, left + i as u32))
-        });
+        let filled = |p: Pos| {
+            let to = (p.row - first) as usize;
+            let moved = order[to].filter(|&from| from != to).and_then(|from| rows[from].as_ref());
+            moved.is_some_and(|row| !matches!(row[(p.col - left) as usize], Content::Value(Value::Blank)))
+        };
+        let block = Rect::new(Pos::new(first, left), Pos::new(last, right));
         self.wb
             .borrow()
-            .room_for_all(sheet, places)
+            .room_for_filled(sheet, block, filled)
             .map_err(|e| self.fault_at(link.span, super::interp::one_line(&e)))?;
         let mut wb = self.book_mut()?;
         for (to, &from) in order.iter().enumerate() {

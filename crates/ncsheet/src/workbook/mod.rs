@@ -630,16 +630,27 @@ impl Workbook {
     }
 
     /// [`Workbook::room_for_all`] of every cell of `rect`, row by row (a formula filled over
-    /// it, a paste): quick when the workbook has room for the whole rectangle.
+    /// it): quick when the workbook has room for the whole rectangle.
     pub fn room_for_rect(&self, sheet: SheetId, rect: Rect) -> Result<(), WorkbookError> {
+        self.room_for_filled(sheet, rect, |_| true)
+    }
+
+    /// [`Workbook::room_for_all`] of the places of `rect`, row by row, that an edit writes
+    /// something into (`filled`: a blank written where no cell is makes none), asked before
+    /// the first is written: a macro's `.Value =` of an array, a paste, a sort. Quick, and
+    /// asking `filled` nothing, when the workbook has room for the whole rectangle.
+    pub fn room_for_filled(
+        &self,
+        sheet: SheetId,
+        rect: Rect,
+        filled: impl Fn(Pos) -> bool,
+    ) -> Result<(), WorkbookError> {
         if self.cell_count() as u64 + rect.rows() as u64 * rect.cols() as u64 <= MAX_CELLS as u64 {
             return Ok(());
         }
         let rows = rect.first.row..=rect.last.row;
-        self.room_for_all(
-            sheet,
-            rows.flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col))),
-        )
+        let places = rows.flat_map(|row| (rect.first.col..=rect.last.col).map(move |col| Pos::new(row, col)));
+        self.room_for_all(sheet, places.filter(|&pos| filled(pos)))
     }
 
     /// [`Workbook::room_for`] when `waiting` more cells are to be made later (a reader's
