@@ -332,6 +332,12 @@ fn str_comp_orders_texts() {
     assert_eq!(value("StrComp(\"ABCD\", \"abcd\", 0)"), n(-1.0));
     assert_eq!(value("StrComp(\"abcd\", \"ABCD\")"), n(1.0));
     assert_eq!(value("StrComp(\"T10\", \"T10\")"), n(0.0));
+    // A textual comparison ignores case beyond ASCII too ("Ä" is "ä"), and a text that is
+    // the start of another comes first in either mode.
+    assert_eq!(value("StrComp(\"ÄBCD\", \"äbcd\", 1)"), n(0.0));
+    assert_eq!(value("StrComp(\"ÄB\", \"äc\", vbTextCompare)"), n(-1.0));
+    assert_eq!(value("StrComp(\"ab\", \"AB C\", 1)"), n(-1.0));
+    assert_eq!(value("StrComp(\"AB C\", \"ab\", 1)"), n(1.0));
 }
 
 // "VarType function" and "VarType constants": vbEmpty 0, vbInteger 2, vbLong 3, vbDouble

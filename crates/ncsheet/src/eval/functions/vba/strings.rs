@@ -175,12 +175,26 @@ pub fn str_comp(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         return Ok(Value::Null);
     };
     ctx.charge_read(a.len() + b.len());
-    let (a, b) = (chars_for(&a, ignore_case), chars_for(&b, ignore_case));
-    Ok(Value::Number(match a.cmp(&b) {
+    Ok(Value::Number(match compare_texts(&a, &b, ignore_case) {
         std::cmp::Ordering::Less => -1.0,
         std::cmp::Ordering::Equal => 0.0,
         std::cmp::Ordering::Greater => 1.0,
     }))
+}
+
+/// Two texts in the order a comparison of `ignore_case` gives, a character at a time: UTF-8's
+/// byte order is that of the characters, and a textual comparison folds as it goes, ASCII a
+/// byte at a time (both texts folded whole into lists of characters first cost 20 ns a
+/// character, three times what the statement limit counts for them: `StrComp(a, b,
+/// vbTextCompare)` of two 10-million-character texts in a loop ran 45 s within the limit).
+fn compare_texts(a: &str, b: &str, ignore_case: bool) -> std::cmp::Ordering {
+    if !ignore_case {
+        return a.cmp(b);
+    }
+    if a.is_ascii() && b.is_ascii() {
+        return a.bytes().map(|c| c.to_ascii_lowercase()).cmp(b.bytes().map(|c| c.to_ascii_lowercase()));
+    }
+    a.chars().map(fold_case).cmp(b.chars().map(fold_case))
 }
 
 /// `Split(expression[, delimiter[, limit[, compare]]])`: a zero-based one-dimensional array
