@@ -358,3 +358,69 @@ fn selection_starts_as_the_range_the_file_saved() {
     assert_eq!(run("A4:C9"), ["$A$4:$C$9 $A$4 6 "]);
     assert_eq!(run("B5:C9"), ["$A$4 $A$4 1 "]);
 }
+
+/// A macro on LibreOffice's tables.xlsx (tests/data/libreoffice), whose table part says
+/// `Parts`, `ref="A1:F6"`, one header row, one totals row, six columns "Part No", "Qty",
+/// "Unit Price", "Col'#", "[x]", "Line Total".
+fn printed_on_tables(body: &str) -> (Vec<String>, Workbook) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/libreoffice/tables.xlsx");
+    let mut wb = ncsheet::io::xlsx::load(&path).unwrap_or_else(|e| panic!("{e}")).workbook;
+    let src = format!("Sub Main()\n{body}\nEnd Sub\n");
+    let out = vba::run(&mut wb, &src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    (out.printed, wb)
+}
+
+/// "Worksheet.ListObjects property", "ListObjects.Item property" (an index or the table's
+/// name), "ListObject.Range / DataBodyRange / HeaderRowRange / TotalsRowRange property" (the
+/// whole table; the rows between header and totals; the header row; the totals row),
+/// "ListColumn.Index / DataBodyRange property", "ListRows.Count": the table part's rectangle
+/// cut as those pages say. The sum of the Qty column's data is the file's own cached total
+/// in B6 (=SUBTOTAL(109,Parts[Qty]) saved by LibreOffice: 17). A name the sheet has no table
+/// of is "Subscript out of range" (error 9).
+#[test]
+fn list_objects_give_a_tables_parts_as_ranges() {
+    let (out, _) = printed_on_tables(
+        "    Dim lo As ListObject, lc As ListColumn\n    Set lo = Worksheets(\"Parts Data\").ListObjects(\"parts\")\n    \
+         Debug.Print Worksheets(\"Parts Data\").ListObjects.Count; Worksheets(\"Use\").ListObjects.Count; lo.Name; \
+         TypeName(lo); Worksheets(1).ListObjects(1).Name\n    \
+         Debug.Print lo.Range.Address; \" \"; lo.DataBodyRange.Address; \" \"; lo.HeaderRowRange.Address; \" \"; \
+         lo.TotalsRowRange.Address\n    \
+         Debug.Print lo.ListColumns.Count; lo.ListRows.Count; lo.ListColumns(\"Unit Price\").Index; lo.ListColumns(5).Name; \
+         lo.ListColumns(\"Qty\").DataBodyRange.Address; Application.Sum(lo.ListColumns(\"Qty\").DataBodyRange); \
+         lo.ListColumns(2).Range.Cells(RowIndex:=6)\n    \
+         For Each lc In lo.ListColumns: Debug.Print lc.Index;: Next\n    \
+         Debug.Print lo.ListRows(3).Range(1); lo.DataBodyRange(4, 2)\n    \
+         On Error Resume Next\n    Set lo = ActiveSheet.ListObjects(\"Nope\")\n    Debug.Print Err.Number",
+    );
+    assert_eq!(
+        out,
+        vec![
+            " 1  0 PartsListObjectParts",
+            "$A$1:$F$6 $A$2:$F$5 $A$1:$F$1 $A$6:$F$6",
+            " 6  4  3 [x]$B$2:$B$5 17  17 ",
+            " 1  2  3  4  5  6 c 7 ",
+            " 9 ",
+        ]
+    );
+}
+
+/// "ListRows.Add method": a row added without a Position goes at the end of the data, and the
+/// totals row below it moves down ("AlwaysInsert … the cells below the table will be shifted
+/// down one row"); with `Position:=1` it goes before the first data row, the rest moving down.
+/// The ListRow it returns is the new row ("ListRow.Range property").
+#[test]
+fn list_rows_add_inserts_a_row_of_the_table() {
+    let (out, wb) = printed_on_tables(
+        "    Dim lo As ListObject, lr As ListRow\n    Set lo = Worksheets(\"Parts Data\").ListObjects(1)\n    \
+         Set lr = lo.ListRows.Add\n    lr.Range(1) = \"e\": lr.Range(2) = 1\n    \
+         Set lr = lo.ListRows.Add(Position:=1)\n    lr.Range.Cells(1, 1).Value = \"first\"\n    \
+         Debug.Print lo.ListRows.Count; lr.Index; lo.Range.Address; \" \"; lo.TotalsRowRange.Address",
+    );
+    assert_eq!(out, vec![" 6  1 $A$1:$F$8 $A$8:$F$8"]);
+    let text = |cell: &str| wb.value(0, ncsheet::formula::address::parse_cell(cell).unwrap());
+    let t = |s: &str| ncsheet::eval::Value::text(s);
+    assert_eq!(
+        [text("A2"), text("A3"), text("A7"), text("B7"), text("A8")],
+        [t("first"), t("a"), t("e"), ncsheet::eval::Value::Number(1.0), t("Total")]
+    );
+}

@@ -3011,6 +3011,14 @@ impl Interp<'_, '_> {
             Var::Obj(Obj::Sheets) => self.wb.borrow().tab_order().iter().map(|&s| Var::Obj(Obj::Sheet(s))).collect(),
             Var::Obj(Obj::Lines(sheet, rect, rows)) => self.lines_of(sheet, rect, rows),
             Var::Obj(Obj::Hyperlinks(sheet, within)) => self.hyperlinks_each(sheet, within),
+            Var::Obj(Obj::Table(t)) => match self.tables_each(&t, self.expr_span(group))? {
+                Some(items) => items,
+                None => {
+                    return Err(
+                        self.fault_at(self.expr_span(group), format!("For Each cannot go through a {}", t.class()))
+                    )
+                }
+            },
             Var::Array(a) => {
                 // An array of a declared type: each item is of that type.
                 let typed = match &group.kind {

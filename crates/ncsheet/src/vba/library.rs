@@ -637,6 +637,7 @@ fn object_type_name(obj: &Obj) -> &'static str {
         Obj::Sheet(_) => "Worksheet",
         Obj::Hyperlinks(..) => "Hyperlinks",
         Obj::Hyperlink(..) => "Hyperlink",
+        Obj::Table(t) => t.class(),
         Obj::SheetGroup(_) => "Sheets",
         Obj::Sheets => "Sheets",
         Obj::Workbook => "Workbook",

@@ -280,6 +280,7 @@ mod hyperlinks;
 mod insert_delete;
 mod interp;
 mod library;
+mod list_objects;
 mod longlong;
 mod nc;
 mod object_model;

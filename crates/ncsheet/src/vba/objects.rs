@@ -301,6 +301,7 @@ impl Interp<'_, '_> {
             Obj::Look(sheet, rect, part) => self.look_part_member(ctx, sheet, rect, part, link),
             Obj::Hyperlinks(sheet, within) => self.hyperlinks_member(ctx, sheet, within, link),
             Obj::Hyperlink(sheet, id) => self.hyperlink_member(ctx, sheet, id, link),
+            Obj::Table(t) => self.table_member(ctx, &t, link),
             Obj::Nc => self.nc_member(ctx, link),
             Obj::Debug => match name.as_str() {
                 "assert" => {
@@ -505,6 +506,7 @@ impl Interp<'_, '_> {
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
             "rows" | "columns" => self.range_member(ctx, id, whole_sheet(), link),
             "hyperlinks" => self.hyperlinks(ctx, id, whole_sheet(), link),
+            "listobjects" => self.list_objects(ctx, id, link),
             // Pages are what a printer driver lays out from the paper, margins, scaling, breaks
             // and the fonts' metrics: ncsheet lays out none, so it refuses to guess a count.
             "pagesetup" => Err(self.fault_at(

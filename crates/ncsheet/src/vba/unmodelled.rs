@@ -175,6 +175,7 @@ fn class_name(obj: &Obj) -> &str {
         Obj::Look(_, _, LookPart::Interior) => "Interior",
         Obj::Hyperlinks(..) => "Hyperlinks",
         Obj::Hyperlink(..) => "Hyperlink",
+        Obj::Table(t) => t.class(),
         Obj::SheetSort(_) => "Sort",
         Obj::SortFields(_) => "SortFields",
         Obj::Files(super::files::FileObj::System) => "FileSystemObject",

@@ -277,6 +277,8 @@ pub enum Obj {
     /// `Interior.Pattern`), by the name a message gives it: set and called as no-ops
     /// (`unmodelled.rs`).
     Unkept(Rc<str>),
+    /// A sheet's tables, a table, its columns or rows (`list_objects.rs`).
+    Table(super::list_objects::TableObj),
 }
 
 impl Obj {
@@ -313,6 +315,7 @@ impl Obj {
             Obj::SortFields(_) => "a SortFields collection",
             Obj::Regex(r) => r.describe(),
             Obj::Unkept(_) => "a setting ncsheet does not keep",
+            Obj::Table(_) => "a table (ListObject) or its rows or columns",
         }
     }
 }

@@ -1428,12 +1428,46 @@ pub trait StructuredReferences {
     /// `text` with its structured references replaced by the ranges they name (A1 text
     /// with the sheet), for a formula at `pos` of `sheet`; `None` when it names no table.
     fn resolve(&self, wb: &Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String>;
+
+    /// The tables, in the file's order, for a macro's `ListObjects`.
+    fn shapes(&self) -> Vec<TableShape> {
+        Vec::new()
+    }
+
+    /// Gives the table named `name` the rectangle `rect` (a macro added a row to it):
+    /// structured references made afterwards name the new rows.
+    fn set_rect(&self, _name: &str, _rect: Rect) {}
+}
+
+/// A table of the workbook ("ListObject object"): its name, sheet, whole rectangle (header
+/// and totals rows included) and its columns' names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableShape {
+    pub name: String,
+    pub sheet: SheetId,
+    pub rect: Rect,
+    pub header_rows: u32,
+    pub totals_rows: u32,
+    pub columns: Vec<String>,
 }
 
 impl Workbook {
     /// Installs the tables structured references made at run time name.
     pub fn set_tables(&mut self, tables: Rc<dyn StructuredReferences>) {
         self.tables = Some(tables);
+    }
+
+    /// The workbook's tables, in its file's order (none when it was not read from a file
+    /// that holds tables).
+    pub fn table_shapes(&self) -> Vec<TableShape> {
+        self.tables.as_ref().map(|t| t.shapes()).unwrap_or_default()
+    }
+
+    /// Gives the table `name` the rectangle `rect` ([`StructuredReferences::set_rect`]).
+    pub fn set_table_rect(&self, name: &str, rect: Rect) {
+        if let Some(tables) = &self.tables {
+            tables.set_rect(name, rect);
+        }
     }
 }
 

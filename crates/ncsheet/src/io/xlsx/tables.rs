@@ -132,14 +132,33 @@ pub fn resolve_structured<'t>(
 
 /// The file's tables, installed in the workbook so that INDIRECT reads the structured
 /// references of its text (`INDIRECT("Table1[Qty]")`) as a formula read at load does.
-pub struct FileTables(pub Vec<Table>);
+/// A macro may add rows to a table (`ListRows.Add`), hence the cell.
+pub struct FileTables(pub std::cell::RefCell<Vec<Table>>);
 
 impl crate::workbook::StructuredReferences for FileTables {
     fn resolve(&self, wb: &crate::workbook::Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
         let name = |s: SheetId| crate::eval::Env::sheet_name(wb, s).unwrap_or_default();
-        match resolve_structured(text, &self.0, sheet, pos, &name) {
+        match resolve_structured(text, &self.0.borrow(), sheet, pos, &name) {
             Cow::Owned(resolved) => Some(resolved),
             Cow::Borrowed(_) => None,
+        }
+    }
+
+    fn shapes(&self) -> Vec<crate::workbook::TableShape> {
+        let shape = |t: &Table| crate::workbook::TableShape {
+            name: t.name.clone(),
+            sheet: t.sheet,
+            rect: t.rect,
+            header_rows: t.header_rows,
+            totals_rows: t.totals_rows,
+            columns: t.columns.clone(),
+        };
+        self.0.borrow().iter().map(shape).collect()
+    }
+
+    fn set_rect(&self, name: &str, rect: Rect) {
+        if let Some(table) = self.0.borrow_mut().iter_mut().find(|t| t.name.eq_ignore_ascii_case(name)) {
+            table.rect = rect;
         }
     }
 }
