@@ -38,10 +38,12 @@ impl Default for Iteration {
     }
 }
 
-/// Cell evaluations one cycle's iteration may spend, rounds × its cells: Excel's largest
-/// count, 32,767 rounds, of a 5,000-cell cycle is 164 million evaluations, which ran for
-/// minutes with INDEX or INDIRECT in each cell. A cycle of up to 305 cells has all 32,767
-/// rounds; a larger one stops earlier, its first cell saying so ([`IterationCut`]).
+/// Cell evaluations the iterating cycles of one recalculation may spend together, rounds ×
+/// cells summed over the cycles: Excel's largest count, 32,767 rounds, of a 5,000-cell cycle
+/// is 164 million evaluations, which ran for minutes with INDEX or INDIRECT in each cell, and
+/// so did 10,000 two-cell cycles (each within a budget of its own). A cycle of up to 305
+/// cells alone has all 32,767 rounds; a larger one, or one met after others spent the
+/// budget, stops earlier, its first cell saying so ([`IterationCut`]).
 pub const MAX_ITERATION_EVALUATIONS: u64 = 10_000_000;
 
 /// A cycle whose iteration [`MAX_ITERATION_EVALUATIONS`] stopped before it settled or ran
@@ -53,9 +55,10 @@ pub struct IterationCut {
     pub asked: u32,
 }
 
-/// The rounds a cycle of `cells` cells may run of the `asked` ones, at least one.
-fn rounds_allowed(asked: u32, cells: usize) -> u32 {
-    (MAX_ITERATION_EVALUATIONS / cells.max(1) as u64).clamp(1, u64::from(asked)) as u32
+/// The rounds a cycle of `cells` cells may run of the `asked` ones, at least one, when the
+/// cycles before it in this recalculation have `spent` evaluations of the budget.
+fn rounds_allowed(asked: u32, cells: usize, spent: u64) -> u32 {
+    (MAX_ITERATION_EVALUATIONS.saturating_sub(spent) / cells.max(1) as u64).clamp(1, u64::from(asked)) as u32
 }
 
 /// A component larger than this is not probed cell by cell (each probe of a range looks
@@ -133,7 +136,7 @@ impl Workbook {
     fn iterate_component(&mut self, cells: &[u32], iteration: Iteration, late: &mut Vec<u32>) {
         let start = self.iteration_start(cells, late);
         let asked = iteration.count.max(1);
-        let rounds = rounds_allowed(asked, cells.len());
+        let rounds = rounds_allowed(asked, cells.len(), self.cycles.iteration_spent);
         self.iteration_cuts.remove(&cells[0]);
         for round in 0..rounds {
             let mut largest = 0.0f64;
@@ -142,6 +145,7 @@ impl Workbook {
                 self.evaluate(id, late);
                 largest = largest.max(change(&before, &self.cells[id as usize].value));
             }
+            self.cycles.iteration_spent += cells.len() as u64;
             if largest <= iteration.max_change {
                 if round == 0 {
                     for (&id, value) in cells.iter().zip(start) {

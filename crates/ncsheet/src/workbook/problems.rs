@@ -61,8 +61,9 @@ impl Problem {
             ProblemKind::Note { error, message } => format!("{error}: {message}"),
             ProblemKind::IterationCut { cells, rounds, asked } => format!(
                 "the iteration of this cycle of {cells} cells stopped after {rounds} of its {asked} rounds: \
-                 ncsheet's limit of {} cell evaluations for one cycle (rounds × cells) was reached before \
-                 no value moved by more than the maximum change; the values are those of round {rounds}",
+                 ncsheet's limit of {} cell evaluations for the iterating cycles of one recalculation (rounds × \
+                 cells, all cycles together) was reached before no value moved by more than the maximum change; \
+                 the values are those of round {rounds}",
                 super::cycles::MAX_ITERATION_EVALUATIONS
             ),
         }

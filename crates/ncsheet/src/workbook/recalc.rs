@@ -115,6 +115,9 @@ pub struct Cycles {
     /// recalculation began: what an edit reports as new without copying every cycle.
     recorded: Vec<u32>,
     forgotten: Vec<Vec<u32>>,
+    /// Cell evaluations the iterating cycles have spent in this recalculation, against
+    /// `cycles::MAX_ITERATION_EVALUATIONS` for all of them together.
+    pub(super) iteration_spent: u64,
 }
 
 impl Cycles {
@@ -128,6 +131,7 @@ impl Cycles {
     fn begin(&mut self) {
         self.recorded.clear();
         self.forgotten.clear();
+        self.iteration_spent = 0;
     }
 
     /// The cycles the recalculation recorded that were not there before it.
