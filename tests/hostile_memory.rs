@@ -481,6 +481,17 @@ fn a_macro_holding_too_much_in_all_its_strings_and_arrays_stops_naming_the_limit
 }
 
 #[test]
+fn arrays_stored_into_their_own_items_count_the_tables_each_copy_keeps() {
+    // Each turn stores the array into its next item, and each copy keeps its own table of the
+    // arrays its items hold: 3,000 turns held 845 MB counted as under 300 MiB, and 100,000
+    // aborted at a 4 GiB cap.
+    let dir = tempfile::tempdir().unwrap();
+    let body = "    Dim a(), i As Long\n    ReDim a(0)\n    For i = 1 To 3000\n        ReDim Preserve a(i)\n        a(i) = a\n    Next\n    Debug.Print UBound(a)";
+    macro_files(dir.path(), body);
+    refused(dir.path(), &["run", "m.csv", "m.bas", "--max-memory", "300M"], &["300.0 MiB allowed", "--max-memory"]);
+}
+
+#[test]
 fn print_and_msgbox_floods_stop_at_the_output_limit() {
     let dir = tempfile::tempdir().unwrap();
     let megabyte = "    Dim s\n    s = Space(1048575) & \"|\"\n    Do\n";
