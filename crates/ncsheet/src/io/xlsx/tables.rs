@@ -15,17 +15,9 @@ use crate::formula::ast::SheetId;
 use super::sheet_span::skip_delimited;
 use super::xml::{for_each_tag, unescape, TagKind};
 
-/// A table: a named rectangle of a sheet with named columns.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Table {
-    pub name: String,
-    pub sheet: SheetId,
-    /// The whole table, header and totals rows included.
-    pub rect: Rect,
-    pub header_rows: u32,
-    pub totals_rows: u32,
-    pub columns: Vec<String>,
-}
+/// A table: a named rectangle of a sheet with named columns — the workbook's own type, which
+/// the macros' ListObjects read too.
+pub use crate::workbook::TableShape as Table;
 
 /// Reads a table part; `None` when it names no valid range.
 pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
@@ -144,16 +136,8 @@ impl crate::workbook::StructuredReferences for FileTables {
         }
     }
 
-    fn shapes(&self) -> Vec<crate::workbook::TableShape> {
-        let shape = |t: &Table| crate::workbook::TableShape {
-            name: t.name.clone(),
-            sheet: t.sheet,
-            rect: t.rect,
-            header_rows: t.header_rows,
-            totals_rows: t.totals_rows,
-            columns: t.columns.clone(),
-        };
-        self.0.borrow().iter().map(shape).collect()
+    fn shapes(&self) -> Vec<Table> {
+        self.0.borrow().clone()
     }
 
     fn set_rect(&self, name: &str, rect: Rect) {
