@@ -739,6 +739,13 @@ impl Interp<'_, '_> {
         Fault { span: Some(span), ..self.fault(message) }
     }
 
+    /// The workbook's refusal `e` as a fault at `span` (the statement's when `None`), its VBA
+    /// number carried from the refusal's kind, not read from its words ([`workbook_error_number`]).
+    pub(super) fn workbook_fault(&self, span: Option<Span>, e: &WorkbookError) -> Fault {
+        let fault = self.fault(one_line(e));
+        Fault { span: span.or(fault.span), code: workbook_error_number(e), ..fault }
+    }
+
     /// The place of an expression (its first character).
     pub fn expr_span(&self, e: &Expr) -> Span {
         self.lines.span(self.source, e.span.start as usize)
@@ -3128,11 +3135,12 @@ impl Interp<'_, '_> {
         };
         // A blank written where no cell is makes none.
         let filled = |pos| !input_text(&item_at(pos)).is_empty();
-        wb.room_for_filled(sheet, rect, filled).map_err(|e| self.fault(one_line(&e)))?;
+        wb.room_for_filled(sheet, rect, filled).map_err(|e| self.workbook_fault(None, &e))?;
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
                 let pos = Pos::new(row, col);
-                wb.set_input_deferred(sheet, pos, &input_text(&item_at(pos))).map_err(|e| self.fault(one_line(&e)))?;
+                wb.set_input_deferred(sheet, pos, &input_text(&item_at(pos)))
+                    .map_err(|e| self.workbook_fault(None, &e))?;
             }
         }
         wb.recalculate_rect(sheet, rect);
@@ -3186,6 +3194,18 @@ pub fn one_line(e: &WorkbookError) -> String {
     }
 }
 
+/// The VBA number of the workbook's refusal `e`: a write, paste or sort past the workbook's
+/// cells, or a sheet past its sheets, is Excel's number for a Range write it cannot do
+/// (Microsoft KB 832136: a range's value Excel cannot take is "Run-time error 1004"), the
+/// message naming the cell kept as the description; any other is ncsheet's own (0: error 5
+/// once trapped).
+fn workbook_error_number(e: &WorkbookError) -> u32 {
+    match e {
+        WorkbookError::TooManyCells(_) | WorkbookError::TooManySheets => 1004,
+        _ => 0,
+    }
+}
+
 /// `Err` after a trapped failure: its VBA number, given or read from the kind of failure the
 /// message names, and the message as the description.
 fn err_state(fault: &Fault) -> ErrState {
@@ -3196,11 +3216,6 @@ fn err_state(fault: &Fault) -> ErrState {
         0 if m.contains("Invalid use of Null") => 94,
         0 if m.contains("type mismatch") || m.contains("not a number") => 13,
         0 if m.contains("out of range") || m.contains("subscript") => 9,
-        // A write, paste or sort past the workbook's cells, or a sheet past its sheets
-        // (`WorkbookError`'s words): Excel's number for a Range write it cannot do (Microsoft
-        // KB 832136: a range's value Excel cannot take is "Run-time error 1004"), the
-        // message naming the cell kept as the description.
-        0 if m.contains("a workbook holds at most") => 1004,
         0 => 5,
         n => n,
     };

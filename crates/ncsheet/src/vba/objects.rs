@@ -1052,7 +1052,7 @@ impl Interp<'_, '_> {
         }
         self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;
-        wb.room_for_rect(sheet, rect).map_err(|e| self.fault_at(span, super::interp::one_line(&e)))?;
+        wb.room_for_rect(sheet, rect).map_err(|e| self.workbook_fault(Some(span), &e))?;
         let parsed = {
             let sheets = |name: &str| wb.sheet_id(name);
             let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };

@@ -381,7 +381,7 @@ impl Interp<'_, '_> {
             return Err(self.fault_at(span, format!("pasting {cells} cells at once is more than a macro may")));
         }
         let room = self.room_to_paste((from, source), (to, area), how);
-        room.map_err(|e| self.fault_at(span, super::interp::one_line(&e)))?;
+        room.map_err(|e| self.workbook_fault(Some(span), &e))?;
         // Everything is read before anything is written: the areas may overlap.
         let mut items = Vec::with_capacity(cells as usize);
         let mut look_pairs = Vec::with_capacity(if looks { cells as usize } else { 0 });
@@ -408,7 +408,7 @@ impl Interp<'_, '_> {
             match item {
                 Err(tree) => wb.fill_formula_tree_deferred(to, Rect::cell(p), tree),
                 Ok(Value::Blank) => {
-                    wb.set_input_deferred(to, p, "").map_err(|e| self.fault_at(span, super::interp::one_line(&e)))?
+                    wb.set_input_deferred(to, p, "").map_err(|e| self.workbook_fault(Some(span), &e))?
                 }
                 Ok(v) => wb.set_value_deferred(to, p, v),
             }

@@ -355,10 +355,7 @@ impl Interp<'_, '_> {
             moved.is_some_and(|row| !matches!(row[(p.col - left) as usize], Content::Value(Value::Blank)))
         };
         let block = Rect::new(Pos::new(first, left), Pos::new(last, right));
-        self.wb
-            .borrow()
-            .room_for_filled(sheet, block, filled)
-            .map_err(|e| self.fault_at(link.span, super::interp::one_line(&e)))?;
+        self.wb.borrow().room_for_filled(sheet, block, filled).map_err(|e| self.workbook_fault(Some(link.span), &e))?;
         let mut wb = self.book_mut()?;
         for (to, &from) in order.iter().enumerate() {
             if from == Some(to) {
@@ -372,9 +369,9 @@ impl Interp<'_, '_> {
                 let p = Pos::new(first + to as u32, left + i as u32);
                 match content {
                     Content::Formula(tree) => wb.fill_formula_tree_deferred(sheet, Rect::cell(p), tree),
-                    Content::Value(Value::Blank) => wb
-                        .set_input_deferred(sheet, p, "")
-                        .map_err(|e| self.fault_at(link.span, super::interp::one_line(&e)))?,
+                    Content::Value(Value::Blank) => {
+                        wb.set_input_deferred(sheet, p, "").map_err(|e| self.workbook_fault(Some(link.span), &e))?
+                    }
                     Content::Value(v) => wb.set_value_deferred(sheet, p, v),
                 }
             }
