@@ -127,6 +127,25 @@ fn a_plain_formula_over_a_range_intersects_as_in_excel() {
     assert_eq!(wb.value(0, at("D3")), num(1.0));
 }
 
+/// A plain `<f>` is a legacy formula: Excel evaluates it with implicit intersection, so its
+/// array result is never spilled and it never reads its own spill range. An array that is
+/// not a reference intersects to its top-left item (Microsoft, "Implicit intersection
+/// operator: @": "If the value is an array, then pick the top-left value"), which is what
+/// Excel caches: `{5;2;3}+COUNTBLANK(A2:A3)` is 5+2, reading the two cells below it that its
+/// un-intersected result would spill over, and C1 reads its would-be spill cell through D1.
+#[test]
+fn a_legacy_formula_whose_array_would_spill_over_cells_it_reads_is_intersected() {
+    let data = r#"<row r="1"><c r="A1"><f>{5;2;3}+COUNTBLANK(A2:A3)</f><v>7</v></c><c r="B1"><f>A1*2</f><v>14</v></c><c r="C1"><f>{1;2}+D1</f><v>1</v></c><c r="D1"><f>C2</f><v>0</v></c></row>"#;
+    let imported = load(&[("Sheet1", data)], "");
+    let wb = &imported.workbook;
+    for (cell, value) in [("A1", 7.0), ("B1", 14.0), ("C1", 1.0), ("D1", 0.0)] {
+        assert_eq!(wb.value(0, at(cell)), num(value), "{cell}");
+    }
+    assert_eq!(wb.formula(0, at("A1")).as_deref(), Some("=@({5;2;3}+COUNTBLANK(A2:A3))"));
+    assert!(wb.cycles().is_empty(), "{:?}", wb.cycles());
+    assert!(xlsx::compare_cached(wb, &imported.cached).is_empty());
+}
+
 #[test]
 fn names_keep_their_scope_and_built_in_names_are_noted() {
     let data = r#"<row r="1"><c r="A1"><v>3</v></c><c r="B1"><f>rate*2</f><v>6</v></c></row>"#;

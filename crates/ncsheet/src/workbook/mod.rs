@@ -484,6 +484,13 @@ impl Workbook {
         Some(Rect::new(pos, Pos::new(pos.row + rows - 1, pos.col + cols - 1)))
     }
 
+    /// The rectangle the array result of the formula at `pos` spills over, or would spill
+    /// over where it was refused (`#SPILL!`, or `#CIRC!` for reading its own spill range).
+    pub fn spill_wanted(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {
+        let id = self.sheets.get(sheet as usize)?.get(pos)?;
+        self.spill.wanted(id)
+    }
+
     /// The formula cells whose array result spilled, or shows `#SPILL!`, in sheet and row
     /// order.
     pub fn spilling_cells(&self) -> Vec<(SheetId, Pos)> {

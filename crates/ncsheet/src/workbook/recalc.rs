@@ -71,6 +71,11 @@ impl SpillState {
         self.areas.get(&anchor).copied()
     }
 
+    /// The rectangle the anchor spills over, or wants where its spill was refused.
+    pub fn wanted(&self, anchor: u32) -> Option<Rect> {
+        self.rect(anchor).or_else(|| self.blocked.get(&anchor).copied())
+    }
+
     /// The value of a position no cell is stored at: a spill tail's fill, or blank.
     #[inline]
     pub fn tail_value(&self, sheet: u16, pos: Pos) -> Value {

@@ -22,7 +22,7 @@ use calamine::{Reader, Style, Xlsx};
 
 use crate::eval::evaluator::MAX_TEXT;
 use crate::eval::format::cell_style::{self, CellStyle};
-use crate::eval::{Env, RowHidden, Value, XlError};
+use crate::eval::{RowHidden, Value, XlError};
 use crate::formula::address::{Pos, Rect, MAX_COLS};
 use crate::formula::ast::SheetId;
 use crate::formula::parse::ParseError;
@@ -502,9 +502,11 @@ fn recalculate_rewritten(wb: &mut Workbook, rewritten: &mut Vec<(SheetId, Pos)>)
     rewritten.clear();
 }
 
+/// Whether the formula at `pos` produced an array here: it spilled, or its spill was refused,
+/// blocked or past the sheet's edge (`#SPILL!`), or reading cells of its own spill range
+/// (`#CIRC!`). Excel intersects each of them, so none of them spills or reads its spill range.
 fn spills(wb: &Workbook, sheet: SheetId, pos: Pos) -> bool {
-    Env::spill_rect(wb, sheet, pos).is_some_and(|r| !r.is_cell())
-        || wb.value(sheet, pos) == Value::Error(XlError::Spill)
+    wb.spill_wanted(sheet, pos).is_some_and(|r| !r.is_cell()) || wb.value(sheet, pos) == Value::Error(XlError::Spill)
 }
 
 /// The table and pivot-table parts of every worksheet kept, by sheet: (type, part).
