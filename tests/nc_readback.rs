@@ -1236,3 +1236,44 @@ fn predefined_parameters_the_reader_cannot_know_are_refused_by_name() {
     assert_eq!((e.line, e.column), (9, 5), "{e}");
     assert!(e.message.contains("cutter compensation"), "{e}");
 }
+
+/// A CAM post's set-up line (`G17 G21 G40 G49 G54 G80 G90 G94`, `G64 P0.01`, `G61`, `G61.1`,
+/// `G91.1`) changes nothing the model holds and is read, so such programs are timed and moved
+/// as rs274 moves them; G80 ends the motion mode (`#<_motion_mode>` 800) and the axis words
+/// beside it are refused as rs274 refuses them. Codes that would move the path (another work
+/// offset, absolute arc centres) are refused by name, though rs274 reads them against its own
+/// offsets.
+#[test]
+fn cam_set_up_codes_move_as_rs274_moves_them() {
+    let header = "%\n(CAM POST)\nG17 G21 G40 G49 G54 G80 G90 G94\nG64 P0.01 Q0.005\nG91.1\n\
+                  T1 M6\nS8000 M3\nG0 X0 Y0 Z5\nG61\nG1 Z-1 F300\nG64 P0.02\nG1 X20\nG2 X30 Y10 I0 J10\n\
+                  G61.1\nG1 Y20\nG80\nG0 X[#<_motion_mode> / 100] Z[#<_coord_system> / 100]\nG54 G0 Z10\nM5\nM2\n%\n";
+    let ours = read::read(header, Family::LinuxCnc, None).unwrap_or_else(|e| panic!("{e}"));
+    let refused = [
+        ("G0 X1\nG80 X5", 2, 5, "with G80", true),
+        ("G0 X1\nG80\nX5", 3, 1, "no motion code", true),
+        ("G0 X1\nG55\nG0 X5", 2, 1, "another work offset", false),
+        ("G59.3", 1, 1, "G59.3 selects another work offset", false),
+        ("G90.1", 1, 1, "absolute", false),
+        ("G61 P1", 1, 5, "P has no meaning", true),
+    ];
+    for (body, line, column, message, _) in refused {
+        let e = read::read(&format!("{body}\nM2\n"), Family::LinuxCnc, None).expect_err(body);
+        assert_eq!((e.line, e.column), (line, column), "{body}: {e}");
+        assert!(e.message.contains(message), "{body}: {e}");
+    }
+    if !rs274::available() {
+        eprintln!("skipped: LinuxCNC's rs274 is not installed (bash .ci/run installs linuxcnc-uspace)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("header.ngc");
+    std::fs::write(&path, header).unwrap();
+    let theirs = rs274::moves(&path).unwrap_or_else(|e| panic!("rs274 rejected the program:\n{e}"));
+    assert_eq!(theirs.len(), 7, "{theirs:?}");
+    assert!(same_moves(&our_moves(&ours), &theirs), "ours   {:?}\nrs274 {theirs:?}", our_moves(&ours));
+    for (body, _, _, _, rs274_refuses) in refused {
+        std::fs::write(&path, format!("{body}\nM2\n")).unwrap();
+        assert_eq!(rs274::moves(&path).is_err(), rs274_refuses, "{body}");
+    }
+}

@@ -740,8 +740,13 @@ fn block_blocks(st: &mut State, words: &[Word], rapid_mark: Option<usize>, out: 
                 return Err((w.column, format!("NC31 has no {} axis (its axes: X Z)", w.letter)));
             }
             'N' | 'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'P' | 'H' => {}
+            // G64's naive CAM tolerance, with its path tolerance P.
+            'Q' if blending(words, st.family) => {}
             l => return Err((w.column, format!("{l} is not a word this reader knows"))),
         }
+    }
+    if motion_word.is_none() {
+        cancel_motion(st, words)?;
     }
     unused_words(words, dwell, compensation, spindle_mode, g50, st.family)?;
     if let Some(w) = rapid_mark.filter(|_| dwell) {
@@ -1010,6 +1015,29 @@ fn radius_known(st: &mut State, words: &[Word], c: Compensation) -> Result<(), F
     Ok(())
 }
 
+/// A LinuxCNC block with G64, whose P and Q are its blending tolerances.
+fn blending(words: &[Word], family: Family) -> bool {
+    family == Family::LinuxCnc && words.iter().any(|w| w.letter == 'G' && w.value == 64.0)
+}
+
+/// LinuxCNC's G80 in a block without another motion code: no motion mode is in force after it
+/// (`#<_motion_mode>` 800), so an axis word needs G0–G3 again, and axis words beside it are
+/// refused as rs274 refuses them ("Cannot use axis values with G80"). With G0–G3 in the block
+/// rs274 moves as that code says.
+fn cancel_motion(st: &mut State, words: &[Word]) -> Result<(), Fail> {
+    if !words.iter().any(|w| w.letter == 'G' && w.value == 80.0) {
+        return Ok(());
+    }
+    if let Some(axis) = words.iter().find(|w| "XYZABC".contains(w.letter)) {
+        return Err((
+            axis.column,
+            format!("{} with G80, which ends the motion mode: the move needs G0, G1, G2 or G3", axis.letter),
+        ));
+    }
+    st.motion = None;
+    Ok(())
+}
+
 /// Words that only mean something with a code this block does not have: an error rather
 /// than a word silently dropped.
 fn unused_words(
@@ -1021,6 +1049,7 @@ fn unused_words(
     family: Family,
 ) -> Result<(), Fail> {
     let g43 = words.iter().any(|w| w.letter == 'G' && w.value == 43.0);
+    let g64 = blending(words, family);
     let side = matches!(compensation, Some(Compensation::Left | Compensation::Right));
     let css_limit = spindle_mode == Some(true) && family == Family::LinuxCnc;
     // Sinumerik's D is the cutting edge, with a tool change or alone.
@@ -1030,7 +1059,7 @@ fn unused_words(
         let meaningful = match w.letter {
             // The dwell's time, and nothing else with a dwell: G4 is a block of its own.
             l if dwell => l == dwell_word || matches!(l, 'G' | 'N'),
-            'P' => false,
+            'P' => g64,
             'D' => side || css_limit || edge,
             'H' => g43,
             'X' | 'Y' | 'Z' | 'A' | 'B' | 'C' => !g50,
@@ -1066,6 +1095,11 @@ fn g_code(
     let unsupported = || Err((w.column, format!("G{} is not a code this reader knows", w.value)));
     if w.value == 53.0 && st.family != Family::Nc31 {
         return Err((w.column, machine_coordinates(st.family)));
+    }
+    if st.family == Family::LinuxCnc {
+        if let Some(read) = linuxcnc_setup_code(w) {
+            return read;
+        }
     }
     if w.value.fract() != 0.0 {
         return unsupported();
@@ -1112,6 +1146,44 @@ fn g_code(
         _ => return unsupported(),
     }
     Ok(())
+}
+
+/// The codes of a CAM program's set-up line (`G17 G21 G40 G49 G54 G80 G90 G94`, `G64 P0.01`)
+/// that change nothing the model holds, read as rs274 2.9 reads them, and the codes of the same
+/// groups that would change the path refused by name. `None` for every other code.
+/// - G54: the work offset in force from power on (LinuxCNC's #5220 = 1); the model's coordinates
+///   are the program's, so staying in it changes nothing. G55–G59.3 would shift every move after
+///   them by an offset ncsheet does not know.
+/// - G80: cancels a canned cycle, and the reader reads none, so only the motion mode ends (see
+///   [`cancel_motion`]).
+/// - G61, G61.1, G64 [P Q]: path blending. The model's times stop at every block's end as
+///   G61.1 does, so under G64 they are an upper bound (docs/limits.md).
+/// - G91.1: I J K from the arc's start, as this reader reads them; G90.1 would make them absolute.
+fn linuxcnc_setup_code(w: &Word) -> Option<Result<(), Fail>> {
+    let tenths = (w.value * 10.0).round();
+    if (w.value * 10.0 - tenths).abs() > 1e-9 {
+        return None;
+    }
+    let refuse = |why: String| Some(Err((w.column, why)));
+    match tenths as i64 {
+        540 | 610 | 611 | 640 | 800 | 911 => Some(Ok(())),
+        550..=590 if tenths as i64 % 10 == 0 => refuse(other_work_offset(w.value)),
+        591..=593 => refuse(other_work_offset(w.value)),
+        901 => refuse(
+            "G90.1 makes arc centres I J K absolute: this reader reads them from the arc's start (G91.1, \
+             LinuxCNC's power-on mode)"
+                .into(),
+        ),
+        _ => None,
+    }
+}
+
+/// Why G55–G59.3 are refused: each shifts the moves after it by its own work offset.
+fn other_work_offset(code: f64) -> String {
+    format!(
+        "G{code} selects another work offset than the power-on G54: ncsheet does not model work offsets, so \
+         it cannot say where the moves after it go (write the program in G54)"
+    )
 }
 
 /// Why a Fanuc lathe's G90, G91, G92 or G94 is refused: in G-code system A (which the ISO
