@@ -109,6 +109,11 @@ pub fn checked_name(path: &str) -> Option<&'static str> {
         "a file needs a name"
     } else if path.chars().any(char::is_control) {
         "a control character in a file name"
+    } else if path.starts_with("\\\\?\\") || path.starts_with("//?/") {
+        // Win32's file namespace prefix: no name parsing at all, any length, any drive.
+        "an extended-length path (\\\\?\\ prefix)"
+    } else if path.starts_with("\\\\.\\") || path.starts_with("//./") {
+        "a Windows device path (\\\\.\\ prefix)"
     } else if path.starts_with("\\\\") || path.starts_with("//") {
         "a network (UNC) path"
     } else if drive {
@@ -1470,6 +1475,10 @@ mod tests {
             ("c:out.nc", "a drive letter"),
             ("\\\\server\\share\\x.nc", "UNC"),
             ("//server/share/x.nc", "UNC"),
+            ("\\\\?\\C:\\x", "an extended-length path"),
+            ("\\\\?\\UNC\\server\\share\\x", "an extended-length path"),
+            ("//?/C:/x", "an extended-length path"),
+            ("\\\\.\\COM1", "a Windows device path"),
             ("sub\\x.nc", "a backslash"),
             ("sub/x.nc", "a folder part"),
             ("a.txt:stream", "alternate data stream"),
