@@ -688,7 +688,11 @@ impl Interp<'_, '_> {
 impl Interp<'_, '_> {
     /// `base(index)`: an item of the array, Collection or Dictionary `base` gives.
     pub(super) fn indexed_var(&self, base: &Expr, index: &[Expr], span: Span) -> Run<Var> {
-        let whole = match self.indexed_base(base)? {
+        let whole = match self.indexed_base_or_item(base, index, span)? {
+            Ok(item) => return Ok(item),
+            Err(whole) => whole,
+        };
+        let whole = match whole {
             // An item added from a Range's values or a sheet function holds a plain array.
             Var::Value(v @ Value::Array(_)) => super::value::array_var(v, self.option_base()),
             other => other,
@@ -724,6 +728,19 @@ impl Interp<'_, '_> {
                 Err(f)
             }
         }
+    }
+
+    /// `d.Items()(i)`: a Dictionary's one item, read alone (`Ok`); any other base whole, as
+    /// [`Interp::indexed_base`] gives it, for the caller to index (`Err`).
+    #[inline(never)]
+    fn indexed_base_or_item(&self, base: &Expr, index: &[Expr], span: Span) -> Run<Result<Var, Var>> {
+        if let (ExprKind::Host(id), [one]) = (&base.kind, index) {
+            if self.is_keys_member(base) {
+                let Node::Path(path) = &self.module.nodes[*id as usize] else { unreachable!() };
+                return self.keys_or_item(path, Some((one, span)));
+            }
+        }
+        self.indexed_base(base).map(Err)
     }
 
     /// What the indexed expression gives, arrays with their own bounds: a Function's result

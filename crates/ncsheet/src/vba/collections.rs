@@ -268,22 +268,19 @@ impl Handle {
         array
     }
 
-    /// Entry `n` of a Dictionary's `Keys` (or `Items`), as [`Handle::listing`] lists it.
-    pub(super) fn listed_one(&self, keys: bool, n: usize) -> Option<Value> {
+    /// Entry `n` (0-based) of a Dictionary's `Keys` (or `Items`) as [`Handle::listing`] lists
+    /// it, with the type its number holds; found in O(log n) through the counts of live places,
+    /// not by walking the entries before it.
+    pub(super) fn listed_one(&self, keys: bool, n: usize) -> Option<(Value, Declared)> {
         let store = self.0.borrow();
-        let (k, item, _) = store.live().nth(n)?;
-        Some(if keys { key_value(k) } else { var_value(item) })
-    }
-
-    /// The type of the number the `n`-th key (or item) holds.
-    pub(super) fn listed_held(&self, keys: bool, n: usize) -> Declared {
-        let store = self.0.borrow();
-        let entry = store.live().nth(n);
-        match (entry, keys) {
-            (Some((Some(k), _, _)), true) => k.held,
-            (Some((_, _, held)), false) => *held,
-            _ => Declared::Variant,
+        if n >= store.len() {
+            return None;
         }
+        let (k, item, held) = store.entries[store.place_of(n)].as_ref()?;
+        Some(match keys {
+            true => (key_value(k), k.as_ref().map_or(Declared::Variant, |k| k.held)),
+            false => (var_value(item), *held),
+        })
     }
 
     /// The memory the entries hold besides their items: keys' texts and each entry's share.
@@ -611,56 +608,72 @@ impl Interp<'_, '_> {
     /// the method takes no argument, so VBA reads the parentheses as an index into the array it
     /// returns (Microsoft's "Keys method": "returns an array"; `For i = 0 To d.Count - 1:
     /// d.Keys(i)`), an index outside it run-time error 9.
-    /// The array is made whole at each call, and counted as work by its items, as a function
-    /// making an array is: `d.Keys()(i)` over 100,000 keys in a loop made 10^10 items
-    /// counting a statement a turn.
+    /// The whole array is counted as work by its items, as a function making an array is
+    /// (`k = d.Keys` over 100,000 keys in a loop made 10^10 items counting a statement a turn);
+    /// one item picked is read alone, as [`Interp::listed_item`] reads it.
     fn listed_or_one(&self, h: &Handle, keys: bool, link: &Link) -> Run<Obj> {
-        let listed = || -> Vec<Value> {
-            match keys {
+        let args = self.member_args(link, &["Index"])?;
+        let Some(index) = args[0] else {
+            self.add_work(h.0.borrow().len() as u64);
+            let listed: Vec<Value> = match keys {
                 true => h.each().iter().map(var_value).collect(),
                 false => h.items().iter().map(var_value).collect(),
-            }
+            };
+            return Ok(Obj::Value(zero_based(listed)));
         };
-        // Counted by the list's items even when one is picked: the count stands for a copy.
-        self.add_work(h.0.borrow().len() as u64);
-        let args = self.member_args(link, &["Index"])?;
-        let Some(index) = args[0] else { return Ok(Obj::Value(zero_based(listed()))) };
-        let v = self.eval(index)?;
-        let n = self.number_of(&v, &format!("the index of {}", link.name)).map_err(|m| self.fault_at(link.span, m))?;
-        let i = n.round_ties_even();
-        // One entry read, not the whole list copied to pick it: `n = n + d.Items()(i)` over a
-        // Dictionary of 100,000 took 20 s before the statement limit stopped it.
-        let one = if i >= 0.0 { h.listed_one(keys, i as usize) } else { None };
-        match one {
-            Some(one) => {
-                self.gave.set(h.listed_held(keys, i as usize));
-                Ok(Obj::Value(one.clone()))
-            }
-            None => Err(self.vba_error(link.span, OUT_OF_RANGE, &format!("{}({i})", link.name))),
-        }
+        self.listed_item(h, keys, index, link.span).map(var_obj)
     }
 
-    /// `k = d.Keys`, `d.Items()(i)`: the array whose items keep their types (an Integer key
-    /// reads back as an Integer), counted as work by its items as [`Interp::listed_or_one`]
-    /// counts; another object's `Keys` member as that object gives it.
+    /// Item `index` of a Dictionary's zero-based `Keys` (or `Items`), read alone: found in
+    /// O(log n) among the entries, where copying the whole list to pick one made
+    /// `n = n + d.Items()(i)` over a Dictionary of 100,000 run 15 s before the statement limit
+    /// stopped it. An index outside the list is run-time error 9 ("Subscript out of range").
+    #[inline(never)]
+    pub(super) fn listed_item(&self, h: &Handle, keys: bool, index: &Expr, span: Span) -> Run<Var> {
+        let i = self.index(index, "the index")?;
+        let Some((one, held)) = usize::try_from(i).ok().and_then(|n| h.listed_one(keys, n)) else {
+            let what = if keys { "Keys" } else { "Items" };
+            let count = h.0.borrow().len();
+            return Err(self.vba_error(span, OUT_OF_RANGE, &format!("{what}()({i}) of a Dictionary of {count}")));
+        };
+        self.gave.set(held);
+        Ok(Var::Value(one))
+    }
+
+    /// `k = d.Keys`: the array whose items keep their types (an Integer key reads back as an
+    /// Integer), counted as work by its items as [`Interp::listed_or_one`] counts; another
+    /// object's `Keys` member as that object gives it.
     pub(super) fn keys_var(&self, path: &super::ast::Path) -> Run<Var> {
+        Ok(self.keys_or_item(path, None)?.unwrap_or_else(|whole| whole))
+    }
+
+    /// `d.Keys()(i)` (or `d.Items()(i)`) with `pick` the index: a Dictionary's one item
+    /// ([`Interp::listed_item`], `Ok`); without `pick`, or for another object's `Keys` member,
+    /// the whole array as [`Interp::keys_var`] gives it, for the caller to index (`Err`). The
+    /// owner is worked out once either way.
+    #[inline(never)]
+    pub(super) fn keys_or_item(&self, path: &super::ast::Path, pick: Option<(&Expr, Span)>) -> Run<Result<Var, Var>> {
         let mut ctx = self.ctx();
         let owner = self.path_until(&mut ctx, path, path.links.len() - 1);
         self.take_pending()?;
         let link = path.links.last().expect("a Keys member");
+        let keys = link.name.eq_ignore_ascii_case("keys");
         let obj = match owner? {
             Obj::Store(h) if h.class() == Class::Dictionary => {
+                if let Some((index, span)) = pick {
+                    return self.listed_item(&h, keys, index, span).map(Ok);
+                }
                 self.add_work(h.0.borrow().len() as u64);
-                return Ok(Var::Array(h.listing(link.name.eq_ignore_ascii_case("keys"))));
+                return Ok(Err(Var::Array(h.listing(keys))));
             }
             other => self.member(&mut ctx, other, link),
         };
         self.take_pending()?;
-        Ok(match obj? {
+        Ok(Err(match obj? {
             Obj::Value(Value::Array(a)) => Var::Array(VArray::row(a, 0)),
             Obj::Value(v) => super::value::array_var(v, self.option_base()),
             other => Var::Obj(other),
-        })
+        }))
     }
 
     fn find(&self, h: &Handle, key: &Value, span: Span) -> Run<Option<usize>> {
