@@ -773,9 +773,19 @@ pub(crate) fn write_outputs(files: &[ncsheet::io::Encoded], in_place: bool, forc
             .map_err(|e| Error::User(format!("{}: cannot write: {e}", f.path.display())))?;
     }
     for f in files {
+        let _wait = if in_place { None } else { wait_for_edits_of(&f.path) };
         f.write(options)?;
     }
     Ok(())
+}
+
+/// Waits for another ncsheet's `--in-place` edit of `path` to finish (its `EditLock` held from
+/// its read to its rename) and holds the file until this save's rename: a save landing between
+/// that edit's check and its rename was replaced by the edit, both printing "saved" (a
+/// `set -o` beside a `set --in-place` of one file lost the `-o` one time in three). A new
+/// file, or one that cannot be read, has no edit to wait for.
+fn wait_for_edits_of(path: &Path) -> Option<ncsheet::io::atomic::EditLock> {
+    ncsheet::io::atomic::EditLock::acquire(path).ok()
 }
 
 #[cfg(test)]
