@@ -141,6 +141,27 @@ fn cvar_keeps_the_type_and_cdec_of_too_many_digits_is_refused_by_name() {
     assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
 }
 
+/// [MS-VBAL] 5.5.1.2.1 (Let-coercion between numeric types): a value the destination type holds
+/// keeps its value, so CDec of a Decimal (or a Currency or a LongLong, scaled integers too) is
+/// that number digit for digit; only a Double goes through VarDecFromR8's 15 digits. Gustav
+/// Brock's RoundingMethodsTest (IsGoodRoundUpZero) asserts `RoundUp(CDec(10 ^ 13) + CDec(0.74),
+/// 1, True)` is 10000000000000.8: RoundUp's `-Int(CDec(-Value) * Scaling) / Scaling` needs the
+/// 16-digit 10000000000000.74, where 15 digits gave 10000000000000.7 (Python's decimal, apart:
+/// Decimal(10**13) + Decimal("0.74") is 10000000000000.74, times 10 is 100000000000007.4, floor
+/// of its negation -100000000000008). A LongLong of more digits than a Double gives back is
+/// refused by name rather than rounded.
+#[test]
+fn cdec_of_a_decimal_keeps_its_digits() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim v\n    v = CDec(10 ^ 13) + CDec(0.74)\n    Debug.Print CDec(v); CDec(v) * 10; -Int(CDec(-v) * 10) / 10\n\
+         \x20   Debug.Print CDec(CCur(2.5) / 2); CDec(0.1 + 0.2)",
+    );
+    assert_eq!(printed, vec![" 10000000000000.74  100000000000007.4  10000000000000.8 ", " 1.25  0.3 "]);
+    let message = main_fails(&mut Workbook::with_sheet(), "    Dim d\n    d = CDec(CLngLng(\"9007199254740993\"))");
+    assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
+}
+
 // ---- an array as an operand --------------------------------------------------------------
 
 /// [MS-VBAL] 5.6.9.3-5.6.9.8 define VBA's arithmetic, comparison, concatenation and logical

@@ -547,12 +547,31 @@ pub(super) fn cvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// 0.2)` is 0.3); the macro holds it as the double nearest to it and computes its
 /// operations on its decimal (`vba/typing/decimal.rs`). Text of more significant digits than a
 /// double gives back is refused by name: VBA keeps 28.
+///
+/// A macro's Decimal, Currency or LongLong is a scaled integer already, which CDec keeps digit
+/// for digit ([MS-VBAL] 5.5.1.2.1: a numeric value Let-coerced to a numeric type keeps its value
+/// when the type holds it; only a Double or Single goes through VarDecFromR8's 15 or 7 digits):
+/// `CDec(CDec(10 ^ 13) + CDec(0.74))` is 10000000000000.74, not 10000000000000.7. Where those
+/// digits are more than its double gives back, CDec is refused by name as for such a text.
 pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // 2^96 - 1, the largest Decimal, as the nearest double.
     const DECIMAL_END: f64 = 79_228_162_514_264_337_593_543_950_335.0;
     let fifteen_digits = |n: f64| format!("{n:.14e}").parse().unwrap_or(n);
+    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let scaled = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
     let raised = Raised::default();
-    let result = lift_vba(ctx, args, "CDec", NO_NULL, &|v| {
+    let result = lift_vba_values(ctx, values, "CDec", NO_NULL, &|v| {
+        if let Some(digits) = scaled.as_deref() {
+            return match held_digit_for_digit(digits) {
+                Some(n) if n.abs() <= DECIMAL_END => Ok(Value::Number(n)),
+                Some(_) => Err(raised.set(6, "a number past the range of its type")),
+                None => Err(raised.set(
+                    5,
+                    "a number of more significant digits than a Double gives back: ncsheet keeps a Decimal's \
+                     digits only as far as a Double gives them (VBA keeps 28)",
+                )),
+            };
+        }
         let n = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
             Value::Blank => 0.0,
@@ -573,6 +592,19 @@ pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     raised.raise(ctx, "CDec", result)
 }
 
+/// The double whose shortest text is the decimal `digits` (`[-]whole[.fraction]`, as a macro
+/// writes its Decimal, Currency or LongLong), when there is one: the decimal it stands for.
+fn held_digit_for_digit(digits: &str) -> Option<f64> {
+    let n: f64 = digits.parse().ok()?;
+    let canonical = |t: &str| {
+        let t = t.trim_start_matches('-');
+        let t = if t.contains('.') { t.trim_end_matches('0').trim_end_matches('.') } else { t };
+        t.trim_start_matches('0').to_string()
+    };
+    let same_sign = (n < 0.0) == digits.starts_with('-') || n == 0.0;
+    (same_sign && canonical(&format!("{n}")) == canonical(digits)).then_some(n)
+}
+
 /// The significant digits of a number written as text (leading zeros and any exponent aside).
 fn significant_digits(text: &str) -> usize {
     let mantissa = text.trim().trim_start_matches(['-', '+']).split(['e', 'E']).next().unwrap_or("");
@@ -582,6 +614,19 @@ fn significant_digits(text: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // A decimal a double gives back is that double; one of more digits has none (Python:
+    // repr(float("10000000000000.74")) is '10000000000000.74', repr(float("9007199254740993"))
+    // is '9007199254740992.0').
+    #[test]
+    fn a_decimal_is_held_by_the_double_that_gives_it_back() {
+        assert_eq!(held_digit_for_digit("10000000000000.74"), Some(10000000000000.74));
+        assert_eq!(held_digit_for_digit("-2.5"), Some(-2.5));
+        assert_eq!(held_digit_for_digit("1050000000000000000000"), Some(1.05e21));
+        assert_eq!(held_digit_for_digit("0"), Some(0.0));
+        assert_eq!(held_digit_for_digit("9007199254740993"), None);
+        assert_eq!(held_digit_for_digit("922337203685477.5807"), None);
+    }
 
     #[test]
     fn days_count_from_vba_day_zero() {
