@@ -38,6 +38,21 @@ fn a_quoted_field_keeps_its_commas_and_the_fields_go_to_the_destination() {
     assert_eq!(get(&wb, "A1"), text("bolt,\"M6, zinc\",12"));
 }
 
+// "XlTextQualifier enumeration": xlTextQualifierSingleQuote is 2, so 'M6, zinc' is one
+// field. (The text starts with "bolt": a leading apostrophe would be the cell's text prefix,
+// not part of its value.)
+#[test]
+fn the_text_qualifier_constants_pick_the_quote() {
+    let mut wb = Workbook::with_sheet();
+    set(&mut wb, "A1", "bolt,'M6, zinc',12");
+    run_main(
+        &mut wb,
+        "Range(\"A1\").TextToColumns Destination:=Range(\"C1\"), DataType:=xlDelimited, \
+         TextQualifier:=xlTextQualifierSingleQuote, Comma:=True",
+    );
+    assert_eq!([get(&wb, "C1"), get(&wb, "D1"), get(&wb, "E1")], [text("bolt"), text("M6, zinc"), n(12.0)]);
+}
+
 // What the macro recorder writes: Other:=True with OtherChar "-", FieldInfo giving each
 // column xlGeneralFormat (1). A format it would change (xlTextFormat, 2) is refused by name,
 // as is a range of two columns (Excel: one column at a time, run-time error 1004).

@@ -64,6 +64,44 @@ fn a_font_name_is_refused_under_on_error_naming_what_is_kept() {
 }
 
 #[test]
+fn on_error_does_not_skip_an_argument_or_form_ncsheet_refuses() {
+    // Each statement has an effect in Excel that ncsheet does not have: "Worksheet.Paste
+    // method" with Link:=True pastes links to the copied cells; "Range.SpecialCells method"
+    // with xlCellTypeConstants (2) gives the constant cells; "Sheets.Add method" with
+    // Type:=xlChart (-4109) adds a chart sheet; "Range.TextToColumns method" with
+    // DataType:=xlFixedWidth (2) splits at fixed widths; "CDec function" keeps 28 digits. A
+    // trapped refusal would let the macro go on without the effect (a merge macro under On
+    // Error Resume Next pasted nothing, session 30's r08), so the run stops at the statement:
+    // its line and the column of the refused member, whatever On Error says.
+    // (the statement, the member the run stops at, a word of the refusal)
+    let cases: [(&str, &str, &str); 5] = [
+        ("Range(\"A1\").Copy\n    ActiveSheet.Paste Link:=True", "Paste", "Paste Link:=True"),
+        ("Set r = Range(\"A1:B2\").SpecialCells(xlCellTypeConstants)", "SpecialCells", "SpecialCells"),
+        ("Sheets.Add Type:=xlChart", "Add", "Sheets.Add"),
+        ("Range(\"A1\").TextToColumns DataType:=xlFixedWidth", "TextToColumns", "xlFixedWidth"),
+        ("x = CDec(\"1234567890.1234567890\")", "x", "CDec"),
+    ];
+    for (statement, member, named) in cases {
+        let last = statement.lines().last().unwrap_or_default();
+        let line = 4 + statement.matches('\n').count() as u32;
+        let col = 5 + last.trim_start().find(member).unwrap_or_default() as u32;
+        for trap in ["On Error Resume Next", "On Error GoTo Handler"] {
+            let e = stop_of(&format!(
+                "    {trap}\n    Range(\"A1\").Value = 1\n    {statement}\n    Debug.Print \"went on\"\n    \
+                 Exit Sub\nHandler:\n    Debug.Print \"handled\""
+            ));
+            assert!(e.message.contains(named), "{statement}: {}", e.message);
+            assert_eq!(e.span.map(|s| (s.line, s.col)), Some((line, col)), "{statement}: {e}");
+            assert!(e.output.printed.is_empty(), "{statement}: {:?}", e.output.printed);
+        }
+    }
+    // The worksheet Sheets.Add makes, Type:=xlWorksheet (-4167, "XlSheetType enumeration"), runs.
+    let printed =
+        run_main(&mut Workbook::with_sheet(), "    Sheets.Add Type:=xlWorksheet\n    Debug.Print Sheets.Count");
+    assert_eq!(printed, [" 2 "]);
+}
+
+#[test]
 fn the_window_and_looks_ncsheet_does_not_keep_are_no_ops() {
     // As the macro recorder writes them: none changes a value or a file ncsheet writes.
     let printed = run_main(

@@ -162,7 +162,7 @@ impl Interp<'_, '_> {
                     areas.len()
                 ),
             )),
-            _ => Err(self.fault_at(
+            _ => Err(self.unsupported(
                 link.span,
                 format!(
                     "{}: ncsheet does not do this to a Range of several areas ({} areas); work on each area \
@@ -236,7 +236,7 @@ impl Interp<'_, '_> {
         let rows = areas.iter().all(|a| a.cols() == MAX_COLS);
         let columns = areas.iter().all(|a| a.rows() == MAX_ROWS);
         if !rows && !columns {
-            return Err(self.fault_at(
+            return Err(self.unsupported(
                 link.span,
                 "Delete of a Range of several areas: ncsheet deletes whole rows or whole columns of several \
                  areas (r.EntireRow.Delete); delete other areas one at a time",

@@ -333,7 +333,7 @@ impl Interp<'_, '_> {
                 Var::Value(v) | Var::Obj(Obj::Value(v)) => values.push(v.clone()),
                 Var::Array(a) => values.push(Value::Array(a.data.clone())),
                 other => {
-                    return Err(self.fault_at(
+                    return Err(self.unsupported(
                         link.span,
                         format!(
                             "ToArray: the ArrayList holds {}, which a ncsheet array cannot hold (its items are \

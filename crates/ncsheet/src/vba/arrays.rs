@@ -1142,7 +1142,7 @@ impl Interp<'_, '_> {
                 let args: Vec<Arg> = last.iter().map(|e| Arg { name: None, value: e.clone() }).collect();
                 self.set_default_member(&mut self.ctx(), &object, &args, value, span)
             }
-            _ => Err(self.fault_at(
+            _ => Err(self.unsupported(
                 span,
                 "(…)(…) = …: the item reached holds a value, not an object; a Collection's or a Dictionary's item \
                  is given as a copy, which VBA changes and drops: take the item into a variable, change it and put \
@@ -1179,7 +1179,7 @@ impl Interp<'_, '_> {
         match self.lookup(&name) {
             Some(Var::Array(_)) => {}
             Some(Var::Obj(Obj::Store(_))) => {
-                return Err(self.fault_at(
+                return Err(self.unsupported(
                     span,
                     format!(
                         "{name}(…)(…) = …: a Collection's or a Dictionary's item is given as a copy, which VBA changes \

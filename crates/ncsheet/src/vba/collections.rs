@@ -863,7 +863,7 @@ impl Interp<'_, '_> {
             _ => None,
         };
         if let Some(what) = object {
-            return Err(self.fault_at(
+            return Err(self.unsupported(
                 self.expr_span(e),
                 format!(
                     "{what} cannot be a Dictionary key here: ncsheet's Dictionary keys are values (text, \

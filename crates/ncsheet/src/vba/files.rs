@@ -644,7 +644,7 @@ impl Interp<'_, '_> {
     pub(super) fn workbook_path(&self, link: &Link) -> Run<Obj> {
         match self.options.files.as_ref().and_then(|f| f.out_dir.as_deref()) {
             Some(dir) => Ok(Obj::Value(Value::text(folder_spelling(dir)))),
-            None => Err(self.fault_at(
+            None => Err(self.unsupported(
                 link.span,
                 "ThisWorkbook.Path: a macro's folder is the one given with `ncsheet run --out-dir DIR`, and this run \
                  has none",
@@ -848,7 +848,7 @@ impl Interp<'_, '_> {
     fn put_text(&self, channel: Channels, text: &str, span: Span) -> Run<()> {
         let (file, unicode, name) = self.writer(channel, span)?;
         let bytes = encode(text, unicode).map_err(|c| {
-            self.fault_at(
+            self.unsupported(
                 span,
                 format!(
                     "\"{name}\": the character {c:?} (U+{:04X}) has no place in Windows-1252, the code page VBA writes \

@@ -481,16 +481,14 @@ impl Interp<'_, '_> {
             LookPart::Interior => "Interior's Color and ColorIndex",
         };
         let what = if part == LookPart::Font { "Font" } else { "Interior" };
-        let mut fault = self.fault_at(
+        self.unsupported(
             link.span,
             format!(
                 "{what}.{} is not modelled by ncsheet: of this, it keeps {kept} only, so the run stops here \
                  (On Error does not skip it)",
                 link.name
             ),
-        );
-        fault.code = super::unmodelled::NOT_MODELLED;
-        fault
+        )
     }
 
     /// `NumberFormatLocal` is the code in the workbook's locale: the same text where the
@@ -502,7 +500,7 @@ impl Interp<'_, '_> {
         let locale = self.wb.borrow().settings().locale;
         let english = locale.localize_shown("1234.5") == "1234.5";
         (!english).then(|| {
-            self.fault_at(
+            self.unsupported(
                 span,
                 "NumberFormatLocal: the workbook's locale spells format codes its own way; use NumberFormat",
             )
@@ -568,7 +566,7 @@ impl Interp<'_, '_> {
                         "Style = \"{style}\": ncsheet applies Excel's number styles Percent, Comma, Comma [0], \
                          Currency and Currency [0] only"
                     );
-                    return Err(self.fault_at(span, why));
+                    return Err(self.unsupported(span, why));
                 };
                 Edit::Format(Rc::from(code))
             }

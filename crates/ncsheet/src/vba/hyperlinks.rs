@@ -98,7 +98,7 @@ impl Interp<'_, '_> {
         let operand = ctx.operand(anchor);
         self.take_pending()?;
         let Operand::Ref(sheet, cells) = operand else {
-            return Err(self.fault_at(link.span, "Hyperlinks.Add: the Anchor is a range (ncsheet has no shapes)"));
+            return Err(self.unsupported(link.span, "Hyperlinks.Add: the Anchor is a range (ncsheet has no shapes)"));
         };
         let Some(address) = argument(link, 1, "address") else {
             return Err(self.fault_at(link.span, "Hyperlinks.Add needs its Address (\"\" for a place in the workbook)"));
@@ -154,7 +154,7 @@ impl Interp<'_, '_> {
                 self.looks.borrow_mut().sheet(sheet).hyperlinks.retain(|(i, _)| *i != id);
                 Ok(Obj::Value(Value::Blank))
             }
-            "follow" => Err(self.fault_at(
+            "follow" => Err(self.unsupported(
                 link.span,
                 "Hyperlink.Follow: a macro runs without a browser or a window, so no link is opened",
             )),

@@ -201,7 +201,7 @@ impl Interp<'_, '_> {
             // Resolved so only when the run has files (`files.rs`).
             "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen"
             | "filedatetime" | "filecopy" | "mkdir" | "rmdir" => self.file_root(ctx, link),
-            "inputbox" => Err(self.fault_at(
+            "inputbox" => Err(self.unsupported(
                 link.span,
                 "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
             )),
@@ -221,9 +221,10 @@ impl Interp<'_, '_> {
     }
 
     /// The refusal of a file dialog (`Application.GetSaveAsFilename` …): no user answers it.
-    /// `On Error` may trap it, as real drivers do to run the rest of a macro without its file.
+    /// No `On Error` traps it: a macro going on without the file it asked for computes
+    /// something else than it would in Excel.
     fn no_dialog(&self, link: &Link) -> crate::vba::interp::Fault {
-        self.fault_at(
+        self.unsupported(
             link.span,
             format!(
                 "Application.{}: a macro runs without a user, so no file dialog opens; give the file's \
@@ -509,7 +510,7 @@ impl Interp<'_, '_> {
             "listobjects" => self.list_objects(ctx, id, link),
             // Pages are what a printer driver lays out from the paper, margins, scaling, breaks
             // and the fonts' metrics: ncsheet lays out none, so it refuses to guess a count.
-            "pagesetup" => Err(self.fault_at(
+            "pagesetup" => Err(self.unsupported(
                 link.span,
                 "PageSetup: ncsheet prints nothing and lays out no pages (paper, margins, scaling, page \
                  breaks, fonts), so it has no page count or print settings to give",
@@ -535,7 +536,7 @@ impl Interp<'_, '_> {
             "unprotect" => self.unprotect_sheet(id, link),
             "protectcontents" => Ok(Obj::Value(Value::Bool(self.protects_contents(id)))),
             "checkboxes" | "optionbuttons" | "dropdowns" | "listboxes" | "buttons" | "shapes" | "oleobjects"
-            | "chartobjects" => Err(self.fault_at(
+            | "chartobjects" => Err(self.unsupported(
                 link.span,
                 format!(
                     "{}: a sheet's form controls and shapes are not in ncsheet's workbook (a macro runs \

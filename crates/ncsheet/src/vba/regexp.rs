@@ -755,7 +755,7 @@ impl Interp<'_, '_> {
             PatternFault::Vbscript(code, at) => {
                 self.regex_error(span, code, &format!("{method}: the pattern \"{pattern}\", at character {}", at + 1))
             }
-            PatternFault::Refused(why) => self.fault_at(span, format!("{method}: the pattern \"{pattern}\": {why}")),
+            PatternFault::Refused(why) => self.unsupported(span, format!("{method}: the pattern \"{pattern}\": {why}")),
         })?;
         let compiled = Rc::new(compiled);
         settings.borrow_mut().compiled = Some(compiled.clone());
@@ -789,7 +789,7 @@ impl Interp<'_, '_> {
     /// crate's lines do not: such text is refused rather than matched otherwise.
     fn refuse_crlf_lines(&self, compiled: &Compiled, text: &str, link: &Link) -> Run<()> {
         if compiled.line_anchors && text.contains("\r\n") {
-            return Err(self.fault_at(
+            return Err(self.unsupported(
                 link.span,
                 format!(
                     "{}: with MultiLine, ^ and $ on text holding CR LF (vbCrLf) are not supported; \

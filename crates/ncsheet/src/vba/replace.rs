@@ -38,7 +38,7 @@ impl Interp<'_, '_> {
         for (position, name) in [(6, "SearchFormat"), (7, "ReplaceFormat")] {
             if self.flag_argument(link, position, name)?.unwrap_or(false) {
                 let why = format!("Range.Replace {name}:=True: ncsheet does not search or replace by cell format");
-                return Err(self.fault_at(link.span, why));
+                return Err(self.unsupported(link.span, why));
             }
         }
         if what.is_empty() {

@@ -316,6 +316,17 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcomments" => number(-4144.0),
         "xlreplaceformula" => number(0.0),
         "xlreplaceformula2" => number(1.0),
+        // "XlSheetType enumeration", for Sheets.Add's Type.
+        "xlworksheet" => number(-4167.0),
+        "xlchart" => number(-4109.0),
+        "xlexcel4macrosheet" => number(3.0),
+        "xlexcel4intlmacrosheet" => number(4.0),
+        // "XlTextParsingType" and "XlTextQualifier enumeration", for Range.TextToColumns.
+        "xldelimited" => number(1.0),
+        "xlfixedwidth" => number(2.0),
+        "xltextqualifierdoublequote" => number(1.0),
+        "xltextqualifiersinglequote" => number(2.0),
+        "xltextqualifiernone" => number(-4142.0),
         // "XlCellType enumeration", for Range.SpecialCells.
         "xlcelltypelastcell" => number(11.0),
         "xlcelltypeconstants" => number(2.0),

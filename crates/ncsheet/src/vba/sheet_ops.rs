@@ -295,7 +295,7 @@ impl Interp<'_, '_> {
             -4163 => Paste::Values,
             -4104 | -4123 => Paste::Inputs,
             _ => {
-                return Err(self.fault_at(
+                return Err(self.unsupported(
                     link.span,
                     "PasteSpecial: only xlPasteValues, xlPasteFormulas and xlPasteAll (a workbook here holds no \
                      comments or validation)",
@@ -318,7 +318,7 @@ impl Interp<'_, '_> {
             let wants_links = ctx.eval(expr).unwrap_single();
             self.take_pending()?;
             if crate::eval::coerce::to_bool(&wants_links).map_err(|e| self.fault_at(link.span, e.to_string()))? {
-                return Err(self.fault_at(link.span, "Paste Link:=True: ncsheet pastes no links to copied cells"));
+                return Err(self.unsupported(link.span, "Paste Link:=True: ncsheet pastes no links to copied cells"));
             }
         }
         let dest = match argument(link, 0, "destination") {
@@ -515,7 +515,7 @@ impl Interp<'_, '_> {
             return Ok(text);
         }
         let book = self.options.workbook_name.as_deref().ok_or_else(|| {
-            self.fault_at(
+            self.unsupported(
                 link.span,
                 "Address(External:=True) needs the workbook's file name, which this run does not know",
             )
@@ -631,7 +631,7 @@ impl Interp<'_, '_> {
         if let Some(e) = argument(link, 3, "Type") {
             if self.number_of(&self.eval(e)?, "Sheets.Add's Type").ok() != Some(XL_WORKSHEET) {
                 let why = "Sheets.Add: ncsheet's workbooks hold worksheets only (Type:=xlWorksheet)";
-                return Err(self.fault_at(link.span, why));
+                return Err(self.unsupported(link.span, why));
             }
         }
         let at = match place {
@@ -789,7 +789,9 @@ impl Interp<'_, '_> {
     pub(super) fn workbook_name(&self, link: &Link) -> Run<Obj> {
         match self.options.workbook_name.as_deref() {
             Some(name) => Ok(Obj::Value(Value::text(name))),
-            None => Err(self.fault_at(link.span, "ThisWorkbook.Name: this run was not given the workbook's file name")),
+            None => {
+                Err(self.unsupported(link.span, "ThisWorkbook.Name: this run was not given the workbook's file name"))
+            }
         }
     }
 
@@ -942,7 +944,7 @@ impl Interp<'_, '_> {
             Some(Value::Number(n)) if n == XL_CELL_TYPE_LAST_CELL => {
                 Ok(Obj::Range(sheet, Rect::cell(self.used_range(sheet).last)))
             }
-            _ => Err(self.fault_at(
+            _ => Err(self.unsupported(
                 link.span,
                 "SpecialCells: ncsheet gives xlCellTypeLastCell only; the other types are ranges of several \
                  areas, which its Range is not (loop over the cells and test each)",

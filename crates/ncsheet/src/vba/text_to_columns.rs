@@ -84,9 +84,10 @@ impl Interp<'_, '_> {
         }
         if let Some(e) = argument(link, 1, "datatype") {
             if self.parameter_number(ctx, e, "DataType", link)? == XL_FIXED_WIDTH {
-                return Err(
-                    self.fault_at(link.span, "TextToColumns DataType:=xlFixedWidth: ncsheet splits at delimiters only")
-                );
+                return Err(self.unsupported(
+                    link.span,
+                    "TextToColumns DataType:=xlFixedWidth: ncsheet splits at delimiters only",
+                ));
             }
         }
         if let Some(e) = argument(link, 10, "fieldinfo") {
@@ -95,7 +96,7 @@ impl Interp<'_, '_> {
             if !all_general(&v) {
                 let why = "TextToColumns FieldInfo: ncsheet types every column as General (xlGeneralFormat, 1); \
                            a column read as text, as a date or skipped is not done";
-                return Err(self.fault_at(link.span, why));
+                return Err(self.unsupported(link.span, why));
             }
         }
         let how = self.splitting(ctx, link)?;

@@ -13,8 +13,8 @@ use super::interp::{Fault, Interp, Run};
 use super::value::Obj;
 use crate::eval::Value;
 
-/// The code of a member ncsheet does not model: no `On Error` traps it.
-pub(super) const NOT_MODELLED: u32 = u32::MAX - 2;
+/// The code of a member, argument or form ncsheet does not model: no `On Error` traps it.
+pub(super) const NOT_MODELLED: u32 = crate::eval::functions::vba::errors::NOT_SUPPORTED;
 
 /// The Excel object a harmless member belongs to.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -226,9 +226,21 @@ impl Interp<'_, '_> {
         Ok(())
     }
 
+    /// ncsheet's refusal of what VBA or Excel would do and ncsheet has no code for, at `span`:
+    /// the run stops there whatever `On Error` says, since a trapped refusal lets the macro go
+    /// on without the statement's effect (r08 of session 30: `On Error Resume Next` skipped a
+    /// refused paste and the merged sheet came out empty). Every such refusal is made here.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn unsupported(&self, span: super::ast::Span, message: impl Into<String>) -> Fault {
+        let mut fault = self.fault_at(span, message);
+        fault.code = NOT_MODELLED;
+        fault
+    }
+
     /// The refusal of `obj.Member`: untrappable, naming the member.
     pub(super) fn not_modelled(&self, obj: &Obj, link: &Link) -> Fault {
-        let mut fault = self.fault_at(
+        self.unsupported(
             link.span,
             format!(
                 "{}.{} is not modelled by ncsheet: its effect on the workbook's values or files would be \
@@ -236,9 +248,7 @@ impl Interp<'_, '_> {
                 class_name(obj),
                 link.name
             ),
-        );
-        fault.code = NOT_MODELLED;
-        fault
+        )
     }
 
     /// `obj.Member` where Excel's class has no such member: VBA's error 438, trappable as in
@@ -253,14 +263,12 @@ impl Interp<'_, '_> {
 
     /// Reading a value from a harmless object or setting ncsheet does not keep.
     pub(super) fn unkept_read(&self, what: &str, span: super::ast::Span) -> Fault {
-        let mut fault = self.fault_at(
+        self.unsupported(
             span,
             format!(
                 "{what}: ncsheet keeps no such setting or look (setting it does nothing), so it has no value to \
                  read"
             ),
-        );
-        fault.code = NOT_MODELLED;
-        fault
+        )
     }
 }

@@ -205,16 +205,14 @@ impl Interp<'_, '_> {
     /// traps it (a handler falling back to Doubles would give other numbers).
     fn decimal_refused(&self, a: &Expr, b: &Expr) -> Fault {
         let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
-        let mut fault = self.fault_at(
+        self.unsupported(
             self.expr_span(a),
             format!(
                 "{shown}: a Decimal result of more significant digits than ncsheet keeps (it holds a \
                  Decimal exactly up to the 15 to 17 digits a Double gives back; VBA keeps 28): \
                  CDbl(…) computes it in Double"
             ),
-        );
-        fault.code = super::super::unmodelled::NOT_MODELLED;
-        fault
+        )
     }
 
     /// The text VBA writes for `v`, the value of `e`, when it is held as a Decimal: its every

@@ -30,7 +30,7 @@ const LONG_MAX: f64 = 2147483647.0;
 
 /// The first VBA run-time error the items of a lifted call met (its number and why), raised
 /// once the call is done: 5 (Invalid procedure call or argument), 6 (Overflow) or 13 (Type
-/// mismatch).
+/// mismatch), or ncsheet's refusal ([`super::errors::NOT_SUPPORTED`], which no `On Error` traps).
 #[derive(Default)]
 pub(super) struct Raised(Cell<Option<(u32, &'static str)>>);
 
@@ -55,6 +55,9 @@ impl Raised {
             }
             Some((13, why)) => {
                 Err(ctx.raise_vba(XlError::Value, 13, super::errors::message(13, format_args!("{name}: {why}"))))
+            }
+            Some((super::errors::NOT_SUPPORTED, why)) => {
+                Err(ctx.raise_vba(XlError::Value, super::errors::NOT_SUPPORTED, format!("{name}: {why}")))
             }
             Some((_, why)) => Err(invalid_call(ctx, name, why)),
             None => result,
@@ -577,7 +580,7 @@ pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
             Value::Blank => 0.0,
             Value::Text(t) if significant_digits(t) > 15 => {
                 return Err(raised.set(
-                    5,
+                    super::errors::NOT_SUPPORTED,
                     "text of more than 15 significant digits: ncsheet keeps a Decimal's digits only as far as a \
                      Double gives them back (VBA keeps 28)",
                 ))

@@ -25,6 +25,12 @@ pub const APPLICATION_DEFINED: &str = "Application-defined or object-defined err
 /// errors) are in the range 0–65535" ("Raise method").
 pub const MAX_ERROR_NUMBER: u32 = 65535;
 
+/// The code of ncsheet's own refusal of something VBA or Excel would do (a member, an argument
+/// or a form ncsheet has no code for): past any error number VBA has, so no `On Error` traps it
+/// and no `Err.Number` shows it. Skipping the refused statement, as a trapped error would, lets
+/// the macro go on without its effect: a silent wrong result (issue 31).
+pub const NOT_SUPPORTED: u32 = u32::MAX - 2;
+
 /// Microsoft's "Trappable errors" table, in order of number.
 const TRAPPABLE: &[(u32, &str)] = &[
     (3, "Return without GoSub"),
