@@ -42,6 +42,7 @@ pub fn run(args: ServeArgs, delimiter: Option<u8>) -> Result<()> {
         macro_files: macro_files_beside(&args.file),
         open: super::open_options(delimiter),
         timeout: args.timeout.timeout,
+        request_deadline: None,
     };
     let server = Server::open(&args.file, &options).map_err(|e| Error::User(e.to_string()))?;
     let url = server.url();

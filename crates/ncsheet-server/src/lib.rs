@@ -7,6 +7,7 @@
 //! serialises the edits. The server prints nothing: [`Server::open`] returns the URL and the
 //! caller says it.
 
+mod connections;
 mod guard;
 mod machining;
 mod paths;
@@ -49,7 +50,14 @@ pub struct Options {
     /// server goes on answering. `None`: no limit, but a macro run from the page stops after
     /// 20 s.
     pub timeout: Option<f64>,
+    /// How long a connection not being answered may take to deliver a whole request, from
+    /// opening or its last answer ([`REQUEST_DEADLINE`] when `None`); past it it is closed.
+    pub request_deadline: Option<Duration>,
 }
+
+/// A connection's time to deliver a whole request, head and body (see `connections`): a
+/// browser sends one at once, and opens a new connection when an idle one was closed.
+pub const REQUEST_DEADLINE: Duration = Duration::from_secs(10);
 
 /// Why the workbench did not start or stopped.
 #[derive(Debug)]
@@ -224,6 +232,7 @@ pub struct Server {
     guard: Guard,
     document: DocumentThread,
     macro_files: Vec<PathBuf>,
+    request_deadline: Duration,
 }
 
 impl Server {
@@ -234,7 +243,8 @@ impl Server {
         let listener = TcpListener::bind(address).map_err(|error| Error::Bind { port: options.port, error })?;
         let port = listener.local_addr().map_err(|error| Error::Bind { port: options.port, error })?.port();
         let macro_files = options.macro_files.clone();
-        Ok(Server { listener, guard: Guard::new(port, random_token()), document, macro_files })
+        let request_deadline = options.request_deadline.unwrap_or(REQUEST_DEADLINE);
+        Ok(Server { listener, guard: Guard::new(port, random_token()), document, macro_files, request_deadline })
     }
 
     /// The address to open in a browser, with the token.
@@ -257,12 +267,14 @@ impl Server {
         runtime.block_on(async move {
             self.listener.set_nonblocking(true).map_err(Error::Serve)?;
             let listener = tokio::net::TcpListener::from_std(self.listener).map_err(Error::Serve)?;
+            let listener = connections::Deadlined { listener, deadline: self.request_deadline };
             let router = routes::router(routes::App {
                 guard: self.guard,
                 document: self.document,
                 bas_files: std::sync::Arc::new(self.macro_files),
             });
-            axum::serve(listener, router).await.map_err(Error::Serve)
+            let service = router.into_make_service_with_connect_info::<connections::Activity>();
+            axum::serve(listener, service).await.map_err(Error::Serve)
         })
     }
 }

@@ -53,6 +53,8 @@ pub fn router(app: App) -> Router {
         .route("/api/run", post(run_macro))
         .fallback(not_found)
         .with_state(app)
+        // The outer layer runs first: a stranger is refused before its body is read.
+        .layer(middleware::from_fn(super::connections::answer_in_time))
         .layer(middleware::from_fn_with_state(guard, admit))
 }
 
