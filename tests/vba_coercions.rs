@@ -162,6 +162,29 @@ fn cdec_of_a_decimal_keeps_its_digits() {
     assert!(message.contains("CDec") && message.contains("Decimal"), "{message}");
 }
 
+/// "Int, Fix functions" of a Decimal operation whose result has more digits than a double holds
+/// but whose whole part a double does: VBA keeps a Decimal's 28 digits ("Decimal data type"),
+/// so Gustav Brock's RoundMid, `Int(CDec(Value) * Scaling + Half) / Scaling` with Scaling
+/// 10 ^ 20, gives 10.5 for 10.5 (his RoundingMethodsTest asserts `NiceDbl(RoundMid(10.5, 20))
+/// = 10.5` and `NiceDbl(RoundMid(10.5, -20)) = 0`). Python's decimal, apart: Decimal("10.5") *
+/// 10**20 + Decimal("0.5") floored is 1050000000000000000000, over 10**20 10.5; the negated sum
+/// -1049999999999999999999.5 floors to -1050000000000000000000; 10.5E-20 + 0.5 truncated is 0.
+/// The same sum kept in a variable is still refused by name, and On Error does not trap it.
+#[test]
+fn int_of_a_decimal_no_double_holds_takes_its_digits() {
+    let printed = run_main(
+        &mut Workbook::with_sheet(),
+        "    Dim s, h\n    s = CDec(10 ^ 20): h = CDec(0.5)\n\
+         \x20   Debug.Print Int(CDec(10.5) * s + h) / s; Fix(CDec(10.5) * CDec(1E-20) + h); Int(-CDec(10.5) * s + h)",
+    );
+    assert_eq!(printed, vec![" 10.5  0 -1050000000000000000000 "]);
+    let message = main_fails(
+        &mut Workbook::with_sheet(),
+        "    Dim x\n    On Error Resume Next\n    x = CDec(10.5) * CDec(10 ^ 20) + CDec(0.5)\n    Debug.Print \"trapped\"",
+    );
+    assert!(message.contains("Decimal") && message.contains("28"), "{message}");
+}
+
 // ---- an array as an operand --------------------------------------------------------------
 
 /// [MS-VBAL] 5.6.9.3-5.6.9.8 define VBA's arithmetic, comparison, concatenation and logical

@@ -262,6 +262,13 @@ pub trait Host {
         None
     }
 
+    /// `Int` (`floor`) or `Fix` of `value`, the value of `e`, when `e` is a macro's Decimal
+    /// operation whose exact result no double holds but whose whole part one does
+    /// (`Int(CDec(x) * 10 ^ 20 + 0.5)`). Cells have no Decimals: `None`.
+    fn decimal_whole(&self, _e: &Expr, _value: &Value, _floor: bool) -> Option<f64> {
+        None
+    }
+
     /// Which of VBA's IIf's branches (`index` into the call's `args`) gave its `value`: a
     /// macro's LongLong past 2^53 is that branch's integer. Nothing for a cell.
     fn chose(&self, _args: &[Expr], _index: usize, _value: &Value) {}
@@ -632,6 +639,11 @@ impl<'a> Ctx<'a> {
     /// A macro's LongLong's decimal text ([`Host::long_long_text`]).
     pub fn macro_long_long_text(&self, e: &Expr, value: &Value) -> Option<String> {
         self.host?.long_long_text(e, value)
+    }
+
+    /// The whole part of a macro's Decimal no double holds ([`Host::decimal_whole`]).
+    pub fn macro_decimal_whole(&self, e: &Expr, value: &Value, floor: bool) -> Option<f64> {
+        self.host?.decimal_whole(e, value, floor)
     }
 
     /// `result`, the negation of `operand`'s value, as a macro checks it against the

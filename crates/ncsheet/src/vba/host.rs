@@ -305,6 +305,10 @@ impl Host for Interp<'_, '_> {
         self.long_long_text(e, value)
     }
 
+    fn decimal_whole(&self, e: &Expr, value: &Value, floor: bool) -> Option<f64> {
+        self.decimal_whole(e, value, floor)
+    }
+
     fn chose(&self, args: &[Expr], index: usize, value: &Value) {
         self.note_iif_branch(args, index, value);
         if let Some(condition) = args.first() {

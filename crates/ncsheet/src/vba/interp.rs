@@ -410,6 +410,9 @@ pub struct Interp<'m, 'w> {
     /// the address of one that is gone starts with none of them.
     static_owners: RefCell<std::collections::HashMap<usize, std::rc::Weak<super::classes::Object>>>,
     pub(super) pending: RefCell<Option<Fault>>,
+    /// The last Decimal operation whose exact result no double holds
+    /// (`typing/decimal.rs`, [`Interp::decimal_whole`]).
+    pub(super) unheld_decimal: Cell<Option<super::typing::UnheldDecimal>>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
@@ -534,6 +537,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::default(),
+            unheld_decimal: Cell::new(None),
             types_known: Default::default(),
             exact: RefCell::default(),
             iif_branch: Cell::new((0, 0, 0)),

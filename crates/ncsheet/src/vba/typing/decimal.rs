@@ -11,7 +11,7 @@
 //! falls back to Doubles would compute something else.
 
 use crate::eval::Value;
-use crate::formula::ast::{BinOp, Expr};
+use crate::formula::ast::{BinOp, Expr, ExprKind};
 
 use super::super::interp::{Fault, Interp};
 use super::Declared;
@@ -28,6 +28,17 @@ const WORK_DIGITS: u32 = 36;
 pub(super) struct Dec {
     digits: i128,
     scale: i32,
+}
+
+/// A Decimal operation's exact result that no double holds, kept beside the nearest double the
+/// operation gave: the operation is known by its first operand (`first`, its address) and the
+/// double's `bits`; `withdrawable` when the refusal it parked is the statement's first fault.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::vba) struct UnheldDecimal {
+    first: usize,
+    bits: u64,
+    exact: Dec,
+    withdrawable: bool,
 }
 
 impl Dec {
@@ -117,6 +128,17 @@ impl Dec {
         None
     }
 
+    /// The whole part: the largest whole decimal not above it (`floor`, VBA's Int) or the
+    /// decimal without its fraction (Fix).
+    fn whole(self, floor: bool) -> Option<Dec> {
+        if self.scale <= 0 {
+            return Some(self);
+        }
+        let unit = 10_i128.checked_pow(u32::try_from(self.scale).ok()?)?;
+        let digits = if floor { self.digits.div_euclid(unit) } else { self.digits / unit };
+        Some(Dec { digits, scale: 0 }.normalized())
+    }
+
     /// Whether the decimal is past a Decimal's range.
     fn past_range(self) -> bool {
         let mut whole = self.digits.unsigned_abs();
@@ -196,9 +218,52 @@ impl Interp<'_, '_> {
                 let shown = self.quoted_source(a.span.start, b.span.end, "the operation");
                 Err(self.overflow_fault(self.expr_span(a), format!("{shown} overflows: its result is past a Decimal")))
             }
-            Some(d) => d.to_double().map(Value::Number).ok_or_else(|| self.decimal_refused(a, b)),
+            Some(d) => match d.to_double() {
+                Some(n) => Ok(Value::Number(n)),
+                None => Ok(self.unheld_decimal_result(a, b, d)),
+            },
             None => Err(self.decimal_refused(a, b)),
         }
+    }
+
+    /// A Decimal result `d` of `a op b` within a Decimal's range whose digits no double holds:
+    /// its refusal waits until the statement's expression is evaluated, and the nearest double
+    /// goes on, so that `Int` or `Fix` of it, whose whole part a double may hold, takes the
+    /// exact digits instead and withdraws the refusal ([`Interp::decimal_whole`]); anything
+    /// else that reads it is refused as before.
+    #[inline(never)]
+    fn unheld_decimal_result(&self, a: &Expr, b: &Expr, d: Dec) -> Value {
+        let nearest: f64 = d.text().parse().unwrap_or(f64::NAN);
+        let withdrawable = self.pending.borrow().is_none();
+        self.park(self.decimal_refused(a, b));
+        let first = a as *const Expr as usize;
+        self.unheld_decimal.set(Some(UnheldDecimal { first, bits: nearest.to_bits(), exact: d, withdrawable }));
+        Value::Number(nearest)
+    }
+
+    /// `Int` (`floor`) or `Fix` of `v`, the value of `e`, when `e` is the Decimal operation
+    /// that last gave a result no double holds ([`Interp::unheld_decimal_result`]) and its
+    /// whole part is a double: that double, its waiting refusal withdrawn. `Int(CDec(10.5) *
+    /// 10 ^ 20 + 0.5)` is 1050000000000000000000 ("Int, Fix functions"; the Decimal
+    /// 1050000000000000000000.5 has 22 digits, which VBA keeps and a double does not).
+    #[inline(never)]
+    pub(in crate::vba) fn decimal_whole(&self, e: &Expr, v: &Value, floor: bool) -> Option<f64> {
+        let unheld = self.unheld_decimal.get()?;
+        let mut e = e;
+        while let ExprKind::Paren(inner) = &e.kind {
+            e = inner;
+        }
+        let ExprKind::Binary(_, a, _) = &e.kind else { return None };
+        let Value::Number(n) = v else { return None };
+        if &**a as *const Expr as usize != unheld.first || n.to_bits() != unheld.bits {
+            return None;
+        }
+        let whole = unheld.exact.whole(floor)?.to_double()?;
+        self.unheld_decimal.set(None);
+        if unheld.withdrawable {
+            self.pending.borrow_mut().take();
+        }
+        Some(whole)
     }
 
     /// The refusal of a Decimal result with more digits than ncsheet keeps: no `On Error`
@@ -262,6 +327,16 @@ mod tests {
     fn a_double_becomes_its_fifteen_digits() {
         assert_eq!(Dec::of_double(0.1 + 0.2, 15), Some(dec("0.3")));
         assert_eq!(Dec::of_double(32.675, 15), Some(dec("32.675")));
+    }
+
+    // Python's decimal, apart: Decimal("1050000000000000000000.5") floored is
+    // 1050000000000000000000; Decimal("-2.5") floored -3, truncated -2.
+    #[test]
+    fn a_decimals_whole_part_is_exact() {
+        assert_eq!(dec("1050000000000000000000.5").whole(true), Some(dec("1050000000000000000000")));
+        assert_eq!(dec("-2.5").whole(true), Some(dec("-3")));
+        assert_eq!(dec("-2.5").whole(false), Some(dec("-2")));
+        assert_eq!(dec("0.500000000000000000105").whole(true), Some(dec("0")));
     }
 
     #[test]

@@ -703,12 +703,28 @@ fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(if negated { ctx.macro_negation(&args[0], result) } else { result })
 }
 
+/// "Int, Fix functions": the whole part, of a macro's Decimal too when the operation giving
+/// it has more digits than a double holds (`Int(CDec(10.5) * 10 ^ 20 + 0.5)`: the
+/// Decimal's own digits, [`Ctx::macro_decimal_whole`]).
 fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    number_fn(ctx, args, "Int", FIRST, |x| Ok(x.floor()))
+    whole_part(ctx, args, "Int", true)
 }
 
 fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    number_fn(ctx, args, "Fix", FIRST, |x| Ok(x.trunc()))
+    whole_part(ctx, args, "Fix", false)
+}
+
+fn whole_part(ctx: &mut Ctx, args: &[Expr], name: &str, floor: bool) -> XlResult<Value> {
+    let f: fn(f64) -> Result<f64, &'static str> = if floor { |x| Ok(x.floor()) } else { |x| Ok(x.trunc()) };
+    // Only an operation can give a Decimal no double holds.
+    if !matches!(args[0].kind, ExprKind::Binary(..) | ExprKind::Paren(_)) {
+        return number_fn(ctx, args, name, FIRST, f);
+    }
+    let v = ctx.eval(&args[0]);
+    if let Some(n) = ctx.macro_decimal_whole(&args[0], &v, floor) {
+        return Ok(Value::Number(n));
+    }
+    number_fn_of(ctx, v, name, FIRST, f)
 }
 
 fn sgn(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
