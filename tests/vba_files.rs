@@ -315,9 +315,39 @@ fn a_file_system_object_without_files_says_it_needs_out_dir() {
     // A branch that never runs does not stop the macro.
     let src = "Sub Main()\n    If False Then Set fso = CreateObject(\"Scripting.FileSystemObject\")\n    Debug.Print 1\nEnd Sub\n";
     assert_eq!(run_with(src, &RunOptions::default()).unwrap().printed, [" 1 "]);
-    // A save dialog has no user to answer it: the way out is InputBox's, a parameter (--arg).
-    let e = fail("    f = Application.GetSaveAsFilename(\"prog.nc\")", &sandbox(&[]));
-    assert!(e.message.contains("no file dialog opens; give the file's name as a parameter of the Sub (--arg"), "{e}");
+    // A save dialog has no user to answer it: without `run --input` it stops the run by name,
+    // whatever On Error says.
+    let e = fail("    On Error Resume Next\n    f = Application.GetSaveAsFilename(\"prog.nc\")", &sandbox(&[]));
+    assert!(e.message.contains("Application.GetSaveAsFilename: a macro runs without a user"), "{e}");
+    assert!(e.message.contains("--input TEXT"), "{e}");
+    assert_eq!(e.span.map(|s| (s.line, s.col)), Some((3, 21)), "{e}");
+}
+
+// `run --input` answers the dialogs in the order the macro opens them. What each gives is
+// Microsoft's: "InputBox function", the text typed, and "If the user chooses Cancel, the
+// function returns a zero-length string"; "Application.InputBox method", the answer as Type
+// says (1 a number, 8 a Range; text when Type is omitted) and False for Cancel;
+// "Application.GetSaveAsFilename method" and "GetOpenFilename method", the name, or False when
+// the user cancels. Past the last answer every dialog is cancelled. The name a save dialog
+// gives is a file name as any other: in --out-dir it is written.
+#[test]
+fn input_answers_the_dialogs_in_order_and_cancels_past_the_last() {
+    let src = "Sub Main()\n    Dim s, n, r, f\n    s = InputBox(\"Tool?\", \"Setup\", \"T1\")\n    \
+               n = Application.InputBox(\"Passes?\", Type:=1)\n    Set r = Application.InputBox(\"Area?\", Type:=8)\n    \
+               f = Application.GetSaveAsFilename(\"prog.nc\")\n    Open f For Output As #1\n    \
+               Print #1, s; n * 2; r.Cells.Count\n    Close #1\n    \
+               Debug.Print InputBox(\"More?\") = \"\"; Application.InputBox(\"x\"); Application.GetOpenFilename()\n\
+               End Sub\n";
+    let answers = ["T7", "3", "B2:C4", "part.nc"].map(String::from).to_vec();
+    let out = run_with(src, &RunOptions { answers: Some(answers), ..sandbox(&[]) }).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.files.len(), 1, "{:?}", out.files);
+    assert_eq!(out.files[0].0, "part.nc");
+    assert_eq!(String::from_utf8(out.files[0].1.clone()).unwrap(), "T7 6  6 \r\n");
+    assert_eq!(out.printed, ["TrueFalseFalse"]);
+    // An answer that is not of the Type asked is refused by name (Excel would ask again).
+    let src = "Sub Main()\n    n = Application.InputBox(\"Passes?\", Type:=1)\nEnd Sub\n";
+    let e = run_with(src, &RunOptions { answers: Some(vec!["three".into()]), ..sandbox(&[]) }).unwrap_err();
+    assert!(e.message.contains("the --input answer \"three\" is not of that type"), "{e}");
 }
 
 #[test]

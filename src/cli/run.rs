@@ -98,6 +98,13 @@ pub struct RunArgs {
     /// opened by its file name alone (--in-file data/points.csv: "points.csv"); repeatable
     #[arg(long = "in-file", value_name = "PATH")]
     pub in_files: Vec<PathBuf>,
+    /// An answer to the macro's next dialog, repeatable, taken in the order the macro opens
+    /// them: InputBox gets the text, Application.InputBox the text read as its Type asks (a
+    /// number, TRUE/FALSE, a reference), GetOpenFilename and GetSaveAsFilename the file's name
+    /// (a plain name in --out-dir, or an --in-file's). Past the last answer a dialog is
+    /// cancelled: InputBox gives "", the others False. Without --input a dialog stops the run
+    #[arg(long = "input", value_name = "TEXT")]
+    pub inputs: Vec<String>,
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = vba::DEFAULT_MAX_STATEMENTS)]
     pub max_statements: u64,
@@ -236,6 +243,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             &args.in_files,
             args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         )?,
+        answers: (!args.inputs.is_empty()).then(|| args.inputs.clone()),
         arc_tolerance: args.arc_tol,
         ..RunOptions::default()
     };

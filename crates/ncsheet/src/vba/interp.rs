@@ -422,6 +422,8 @@ pub struct Interp<'m, 'w> {
     /// The harmless settings the macro wrote (`Application.StatusBar = "…"`), by object and
     /// member: a read gives them back, as Excel's does (`unmodelled.rs`).
     pub(super) harmless_settings: RefCell<std::collections::HashMap<String, Value>>,
+    /// How many of [`RunOptions::answers`] the macro's dialogs took (`dialogs.rs`).
+    pub(super) answered: Cell<usize>,
     /// The sheet of the document module the code is in: what unqualified `Range`, `Cells`
     /// and `[B3]` mean there, and `Me`.
     pub home: Option<SheetId>,
@@ -518,6 +520,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             active: Cell::new(0),
             reference_style: Cell::new(XL_A1),
             harmless_settings: RefCell::new(std::collections::HashMap::new()),
+            answered: Cell::new(0),
             home: None,
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),

@@ -273,6 +273,7 @@ mod collections;
 mod conditional;
 mod const_order;
 mod deftype;
+mod dialogs;
 mod files;
 mod formats;
 mod host;
@@ -491,6 +492,11 @@ pub struct RunOptions {
     /// The files the macro may read and write (`run --out-dir`, `--in-file`); `None`: file
     /// statements are refused by name, as when the language had none.
     pub files: Option<FileAccess>,
+    /// The answers to the macro's dialogs (`InputBox`, `Application.InputBox`,
+    /// `GetOpenFilename`, `GetSaveAsFilename`), in the order it opens them (`run --input`);
+    /// past the last one a dialog is cancelled. `None`: the run has no answers, and a dialog
+    /// stops it by name.
+    pub answers: Option<Vec<String>>,
     /// The chord tolerance the program will be written with on a control without circular
     /// interpolation (`run --arc-tol`), for `Nc.ChordsCW`; `None`: the default.
     pub arc_tolerance: Option<f64>,
@@ -619,6 +625,7 @@ impl Default for RunOptions {
             classes: Vec::new(),
             workbook_name: None,
             files: None,
+            answers: None,
             arc_tolerance: None,
             looks: Vec::new(),
             limits_from: LimitsFrom::RunOptions,

@@ -201,10 +201,8 @@ impl Interp<'_, '_> {
             // Resolved so only when the run has files (`files.rs`).
             "freefile" | "eof" | "lof" | "loc" | "seek" | "createobject" | "kill" | "dir" | "filelen"
             | "filedatetime" | "filecopy" | "mkdir" | "rmdir" => self.file_root(ctx, link),
-            "inputbox" => Err(self.unsupported(
-                link.span,
-                "InputBox: a macro runs without a user; pass values with --arg NAME=VALUE or read them from cells",
-            )),
+            // Answered by `run --input` (`dialogs.rs`).
+            "inputbox" => self.input_box(ctx, link),
             // `ActiveWindow.Zoom = 80`: Excel's window, harmless to set (`unmodelled.rs`).
             other => super::unmodelled::window_root(other)
                 .ok_or_else(|| self.fault_at(link.span, format!("{} is not an object", link.name))),
@@ -220,16 +218,16 @@ impl Interp<'_, '_> {
         Ok(Obj::Value(Value::Blank))
     }
 
-    /// The refusal of a file dialog (`Application.GetSaveAsFilename` …): no user answers it.
+    /// The refusal of `Application.FileDialog`, whose dialog object ncsheet does not model.
     /// No `On Error` traps it: a macro going on without the file it asked for computes
     /// something else than it would in Excel.
     fn no_dialog(&self, link: &Link) -> crate::vba::interp::Fault {
         self.unsupported(
             link.span,
             format!(
-                "Application.{}: a macro runs without a user, so no file dialog opens; give the file's \
-                 name as a parameter of the Sub (--arg NAME=FILE) and let the macro join it to \
-                 ThisWorkbook.Path, the --out-dir folder, or read a file given with --in-file",
+                "Application.{}: a macro runs without a user, and ncsheet has no FileDialog object; \
+                 Application.GetOpenFilename and GetSaveAsFilename take their answers from `ncsheet run \
+                 --input NAME`, or give the file's name as a parameter of the Sub (--arg NAME=FILE)",
                 link.name
             ),
         )
@@ -244,7 +242,9 @@ impl Interp<'_, '_> {
         match obj {
             Obj::App => match name.as_str() {
                 "worksheets" | "sheets" | "range" | "cells" | "activesheet" | "activeworkbook" | "thisworkbook"
-                | "activecell" | "selection" | "evaluate" | "inputbox" | "msgbox" => self.root(ctx, link),
+                | "activecell" | "selection" | "evaluate" | "msgbox" => self.root(ctx, link),
+                // Excel's own InputBox: typed answers, and False for Cancel (`dialogs.rs`).
+                "inputbox" => self.application_input_box(ctx, link),
                 // "Application.CutCopyMode property": False, or xlCopy (1) while a Copy waits.
                 "cutcopymode" => Ok(Obj::Value(match self.clipboard.borrow().is_some() {
                     true => Value::Number(1.0),
@@ -264,8 +264,10 @@ impl Interp<'_, '_> {
                 "run" => self.application_run(link),
                 "intersect" => self.range_set(link, RangeSet::Intersect),
                 "union" => self.range_set(link, RangeSet::Union),
-                // File dialogs: no user answers them, and the sandbox names the folder.
-                "getsaveasfilename" | "getopenfilename" | "filedialog" => Err(self.no_dialog(link)),
+                // File dialogs: answered by `run --input` (`dialogs.rs`); FileDialog's object is
+                // not modelled.
+                "getsaveasfilename" | "getopenfilename" => self.file_name_dialog(ctx, link),
+                "filedialog" => Err(self.no_dialog(link)),
                 _ => self.unmodelled(&Obj::App, link),
             },
             Obj::Workbook => match name.as_str() {
