@@ -569,7 +569,7 @@ pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
                 Some(n) if n.abs() <= DECIMAL_END => Ok(Value::Number(n)),
                 Some(_) => Err(raised.set(6, "a number past the range of its type")),
                 None => Err(raised.set(
-                    5,
+                    super::errors::NOT_SUPPORTED,
                     "a number of more significant digits than a Double gives back: ncsheet keeps a Decimal's \
                      digits only as far as a Double gives them (VBA keeps 28)",
                 )),
