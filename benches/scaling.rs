@@ -102,6 +102,13 @@ enum Kind {
     /// A macro evaluating `SUM(SEQUENCE(N))` in an endless loop under a 1 s `--timeout`:
     /// the time is when it stopped.
     MacroTimeout,
+    /// N numbers in column A, `=SUM(A:A)` in B1 and `=Ak*2` in C1:C1000, then ten columns
+    /// inserted at A one at a time (a macro's `Columns(1).Insert` in a loop): the time is of
+    /// the insertions.
+    InsertColumns,
+    /// N formulas `=Bk+1` in column A, each linking a blank cell, then a defined name added,
+    /// which relinks the whole graph and recomputes every formula: the time is of that.
+    Relink,
 }
 
 struct Case {
@@ -127,7 +134,9 @@ impl Case {
             "indirect-rewrite" => Kind::IndirectRewrite,
             "far-csv-load" => Kind::FarCsvLoad,
             "macro-timeout" => Kind::MacroTimeout,
-            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, offset-edits, self-offset, far-csv, sheets, xlsx-sheets, indirect, indirect-edit, indirect-rewrite, far-csv-load, macro-timeout)")),
+            "insert-columns" => Kind::InsertColumns,
+            "relink" => Kind::Relink,
+            _ => return Err(format!("unknown case kind in {name:?} (circ, circ-edits, offset, offset-edits, self-offset, far-csv, sheets, xlsx-sheets, indirect, indirect-edit, indirect-rewrite, far-csv-load, macro-timeout, insert-columns, relink)")),
         };
         let n: u32 = n.parse().ok().filter(|&n| n >= 2).ok_or_else(|| format!("bad size in {name:?}"))?;
         Ok(Case { name: name.to_string(), kind, n })
@@ -217,7 +226,9 @@ fn build(case: &Case, file: Option<&std::path::Path>) -> Result<Workbook, String
             wb.recalculate();
             Ok(wb)
         }
-        Kind::IndirectEdit | Kind::IndirectRewrite => Err("timed in parts (timed_part)".to_string()),
+        Kind::IndirectEdit | Kind::IndirectRewrite | Kind::InsertColumns | Kind::Relink => {
+            Err("timed in parts (timed_part)".to_string())
+        }
         Kind::MacroTimeout => {
             let source = format!(
                 "Sub Main()\n    Dim s\n    Do\n        s = Evaluate(\"SUM(SEQUENCE({}))\")\n    Loop\nEnd Sub\n",
@@ -250,8 +261,11 @@ fn indirect_chain(n: u32) -> Result<Workbook, String> {
 /// The cases whose timed part follows an untimed setup: the setup's workbook, then the
 /// timed work on it.
 fn timed_part(case: &Case) -> Result<Option<(Workbook, f64)>, String> {
-    if !matches!(case.kind, Kind::IndirectEdit | Kind::IndirectRewrite) {
-        return Ok(None);
+    match case.kind {
+        Kind::InsertColumns => return insert_columns(case.n).map(Some),
+        Kind::Relink => return relink(case.n).map(Some),
+        Kind::IndirectEdit | Kind::IndirectRewrite => {}
+        _ => return Ok(None),
     }
     let n = case.n;
     let mut wb = indirect_chain(n)?;
@@ -273,6 +287,36 @@ fn timed_part(case: &Case) -> Result<Option<(Workbook, f64)>, String> {
         _ => unreachable!("checked above"),
     }
     Ok(Some((wb, start.elapsed().as_secs_f64())))
+}
+
+/// [`Kind::InsertColumns`]: the book built and computed, then the insertions timed.
+fn insert_columns(n: u32) -> Result<(Workbook, f64), String> {
+    let mut wb = Workbook::with_sheet();
+    for k in 1..=n {
+        set(&mut wb, 0, at(k - 1, 0), &k.to_string())?;
+    }
+    set(&mut wb, 0, at(0, 1), "=SUM(A:A)")?;
+    for k in 1..=1000.min(n) {
+        set(&mut wb, 0, at(k - 1, 2), &format!("=A{k}*2"))?;
+    }
+    wb.recalculate();
+    let start = Instant::now();
+    for _ in 0..EDITS {
+        wb.shift_cells(0, ncsheet::workbook::SheetEdit::columns(0, 1, true)).map_err(|e| e.to_string())?;
+    }
+    Ok((wb, start.elapsed().as_secs_f64()))
+}
+
+/// [`Kind::Relink`]: the column built and computed, then the name's relinking timed.
+fn relink(n: u32) -> Result<(Workbook, f64), String> {
+    let mut wb = Workbook::with_sheet();
+    for k in 1..=n {
+        set(&mut wb, 0, at(k - 1, 0), &format!("=B{k}+1"))?;
+    }
+    wb.recalculate();
+    let start = Instant::now();
+    wb.define_name("Rate", "2", None).map_err(|e| e.to_string())?;
+    Ok((wb, start.elapsed().as_secs_f64()))
 }
 
 /// A csv file whose only cell is a number at row `rows`, column XFD.
@@ -341,6 +385,20 @@ fn check(case: &Case, wb: &Workbook) -> Result<(), String> {
             }
         }
         Kind::MacroTimeout => {}
+        Kind::InsertColumns => {
+            // Each insertion moved the columns one right: A's numbers are in K now.
+            let (sum, last) = (wb.value(0, at(0, 11)), wb.value(0, at(n - 1, 10)));
+            let total = n as f64 * (n as f64 + 1.0) / 2.0;
+            if sum != Value::Number(total) || last != Value::Number(n as f64) {
+                return fail(format!("L1 is {sum:?}, not {total}; K{n} {last:?}, not {n}"));
+            }
+        }
+        Kind::Relink => {
+            let last = wb.value(0, at(n - 1, 0));
+            if last != Value::Number(1.0) || wb.cell_count() != 2 * n as usize {
+                return fail(format!("A{n} is {last:?}, not 1; {} cells, not {}", wb.cell_count(), 2 * n));
+            }
+        }
     }
     Ok(())
 }

@@ -776,3 +776,95 @@ fn a_csv_saved_after_an_insertion_has_the_inserted_row_empty() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(std::fs::read_to_string(&saved).unwrap(), "\n1\n2\n3\n");
 }
+
+// Issue 30: an insertion relinks only the formulas it rewrites or moves and those whose
+// edges reach the cells it moves (through a defined name, a 3-D reference, INDIRECT or
+// OFFSET), and recomputes what depends on them, where it rebuilt the whole graph and
+// recomputed every formula (a second a turn before a full column). The formulas, and the
+// values after each edit, are LibreOffice 24.2's: the same book as an xlsx, a row and then a
+// column inserted with `insertCells` (ROWS, COLUMNS) and cells set with `setValue`, each
+// followed by `calculateAll`, in a headless LibreOffice Basic macro (LibreOffice writes
+// `$Sheet1.A:A` where Excel and we write `Sheet1!A:A`). The 3-D reference and INDIRECT's
+// text stay on A1 and read the new, empty cell there; the name, OFFSET's reference and the
+// plain ones follow their cells.
+#[test]
+fn an_insertion_recomputes_what_reads_the_moved_cells_through_names_3d_references_and_indirect() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Sheet2").unwrap();
+    wb.add_sheet("Sheet3").unwrap();
+    for i in 1..=5 {
+        set(&mut wb, 0, &format!("A{i}"), &i.to_string());
+    }
+    set(&mut wb, 1, "A1", "10");
+    set(&mut wb, 2, "A1", "100");
+    wb.define_name("Tot", "Sheet1!$A$1:$A$5", None).unwrap();
+    let formulas = [
+        "=SUM(Tot)",
+        "=SUM(Sheet1:Sheet3!A1)",
+        "=INDIRECT(\"Sheet1!A1\")",
+        "=SUM(Sheet1!A:A)",
+        "=OFFSET(Sheet1!A1,1,0)",
+        "=Sheet1!A3*2",
+    ];
+    for (i, f) in formulas.iter().enumerate() {
+        set(&mut wb, 1, &format!("B{}", i + 1), f);
+    }
+    let column = |wb: &Workbook| -> Vec<Value> { (1..=6).map(|r| wb.value(1, at(&format!("B{r}")))).collect() };
+    let numbers = |xs: [f64; 6]| xs.map(n).to_vec();
+    assert_eq!(column(&wb), numbers([15.0, 111.0, 1.0, 15.0, 2.0, 6.0]));
+    wb.shift_cells(0, SheetEdit::rows(0, 1, true)).unwrap();
+    assert_eq!(column(&wb), numbers([15.0, 110.0, 0.0, 15.0, 2.0, 6.0]));
+    assert_eq!(wb.formula(1, at("B5")).as_deref(), Some("=OFFSET(Sheet1!A2,1,0)"));
+    assert_eq!(wb.formula(1, at("B6")).as_deref(), Some("=Sheet1!A4*2"));
+    set(&mut wb, 0, "A2", "1000");
+    set(&mut wb, 0, "A1", "7");
+    set(&mut wb, 0, "A4", "30");
+    assert_eq!(column(&wb), numbers([1041.0, 117.0, 7.0, 1048.0, 2.0, 60.0]));
+    wb.shift_cells(0, SheetEdit::columns(0, 1, true)).unwrap();
+    assert_eq!(column(&wb), numbers([1041.0, 110.0, 0.0, 1048.0, 2.0, 60.0]));
+    assert_eq!(wb.formula(1, at("B4")).as_deref(), Some("=SUM(Sheet1!B:B)"));
+    assert_eq!(wb.formula(1, at("B5")).as_deref(), Some("=OFFSET(Sheet1!B2,1,0)"));
+    set(&mut wb, 0, "A1", "5");
+    set(&mut wb, 0, "B3", "-1");
+    assert_eq!(column(&wb), numbers([1038.0, 115.0, 5.0, 1045.0, -1.0, 60.0]));
+}
+
+// Issue 30: a cell given back (a deleted sheet's, a blank one nothing links) keeps the sheet
+// and place it left, where another cell may stand now: a scan of a sheet's cells that took
+// it for the cell there would move or read it. A sheet filled, deleted and brought back
+// (the workbench's undo) and a sheet added after it, each edited by an insertion, hold
+// what they were given, where the insertion puts it, and no more cells than they fill.
+#[test]
+fn cells_given_back_are_not_taken_for_the_cells_now_at_their_places() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Data").unwrap();
+    wb.start_journal();
+    for i in 1..=50 {
+        set(&mut wb, 1, &format!("A{i}"), &i.to_string());
+        set(&mut wb, 1, &format!("B{i}"), &format!("=A{i}*2"));
+    }
+    let record = {
+        wb.delete_sheet(1).unwrap();
+        wb.take_deleted_sheets().pop().unwrap()
+    };
+    assert_eq!(wb.cell_count(), 0);
+    let new = wb.add_sheet("New").unwrap();
+    for i in 1..=10 {
+        set(&mut wb, new, &format!("A{i}"), &(i * 100).to_string());
+    }
+    set(&mut wb, new, "C1", "=SUM(A1:A10)");
+    wb.restore_sheet(&record).unwrap();
+    assert_eq!(wb.cell_count(), 10 + 1 + 100);
+    wb.shift_cells(new, SheetEdit::rows(0, 2, true)).unwrap();
+    wb.shift_cells(1, SheetEdit::columns(0, 1, true)).unwrap();
+    wb.shift_cells(1, SheetEdit::rows(0, 1, false)).unwrap();
+    assert_eq!(wb.value(new, at("A3")), n(100.0));
+    assert_eq!(wb.value(new, at("A12")), n(1000.0));
+    assert_eq!(wb.value(new, at("C3")), n(5500.0));
+    assert_eq!(wb.formula(new, at("C3")).as_deref(), Some("=SUM(A3:A12)"));
+    assert_eq!(wb.value(1, at("B1")), n(2.0));
+    assert_eq!(wb.value(1, at("C49")), n(100.0));
+    assert_eq!(wb.formula(1, at("C49")).as_deref(), Some("=B49*2"));
+    assert_eq!(wb.value(1, at("B50")), Value::Blank);
+    assert_eq!(wb.cell_count(), 10 + 1 + 98);
+}

@@ -75,6 +75,14 @@ impl Original {
         self.delimiter
     }
 
+    /// The places whose field holds something, in row order.
+    pub fn filled_places(&self) -> impl Iterator<Item = Pos> + '_ {
+        self.rows.iter().enumerate().flat_map(|(r, row)| {
+            let filled = row.fields.iter().enumerate().filter(|(_, f)| !f.is_empty());
+            filled.map(move |(c, _)| Pos::new(r as u32, c as u32))
+        })
+    }
+
     /// The field at `row` and `col` as it stands in the file, quotes included.
     pub fn raw_field(&self, row: usize, col: usize) -> Option<&str> {
         self.rows.get(row)?.fields.get(col).map(String::as_str)

@@ -392,8 +392,16 @@ pub fn encode_save_with(
         }
         // The csv's own sheet left: its text kept, the cells edited on it written anew.
         (Format::Csv, Origin::Csv(original)) if wb.tab_order() == [0] => {
-            let inputs = wb.changes().unwrap_or_default().inputs;
-            let edited: Vec<_> = inputs.into_iter().filter(|&(sheet, _)| sheet == 0).map(|(_, p)| p).collect();
+            let changes = wb.changes().unwrap_or_default();
+            let mut edited: Vec<_> =
+                changes.inputs.into_iter().filter(|&(sheet, _)| sheet == 0).map(|(_, p)| p).collect();
+            if changes.shifted {
+                // The places cells left when rows or columns moved, holding nothing now.
+                let left = original.filled_places().filter(|&p| wb.input(0, p).is_none_or(|i| i.is_empty()));
+                edited.extend(left.collect::<Vec<_>>());
+                edited.sort_unstable_by_key(|p| (p.row, p.col));
+                edited.dedup();
+            }
             let mut bytes = Vec::new();
             let sheet_name = wb.sheet_names().into_iter().next().unwrap_or_default();
             let formats = layout.and_then(|l| l.sheets.get(&sheet_name)).map(|l| &l.look.number_formats);

@@ -228,6 +228,24 @@ impl RangeIndex {
     pub fn clear(&mut self) {
         *self = RangeIndex::default();
     }
+
+    /// Drops the nodes no formula reads any more, once they outnumber those read: each
+    /// column inserted before `=SUM(A:A)` leaves the node of the range it read, and every
+    /// changed cell is looked up among the whole-column nodes. Nodes are numbered afresh
+    /// (only a recalculation's marks, made and dropped within it, name them).
+    pub fn drop_unused(&mut self) {
+        let used = self.nodes.iter().filter(|n| !n.dependents.is_empty()).count();
+        if self.nodes.len() - used <= used.max(64) {
+            return;
+        }
+        let kept: Vec<RangeNode> =
+            std::mem::take(&mut self.nodes).into_iter().filter(|n| !n.dependents.is_empty()).collect();
+        self.clear();
+        for node in kept {
+            let id = self.intern(node.sheet, node.rect);
+            self.nodes[id as usize].dependents = node.dependents;
+        }
+    }
 }
 
 #[cfg(test)]

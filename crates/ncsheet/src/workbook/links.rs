@@ -199,7 +199,7 @@ impl Workbook {
     /// nothing else (an edit the change log notes, a note, unparsed text, a place in a spill).
     fn holds_nothing(&self, id: u32) -> bool {
         let c = &self.cells[id as usize];
-        let edited = self.changes.as_ref().is_some_and(|log| log.inputs.contains(&id) || log.values.contains(id));
+        let edited = self.changes.as_ref().is_some_and(|log| log.inputs.contains(id) || log.values.contains(id));
         c.formula == NO_FORMULA
             && c.value.is_blank()
             && c.dependents.as_slice().is_empty()

@@ -253,7 +253,9 @@ pub struct Workbook {
 /// Cell ids whose input was set, and whose value changed, since tracking began.
 #[derive(Default)]
 struct ChangeLog {
-    inputs: std::collections::HashSet<u32>,
+    /// A bit per cell id: an insertion moving a million cells notes each a turn (a hashed
+    /// set of ids took two thirds of `Columns(1).Insert` before a full column).
+    inputs: CellBits,
     /// Of `inputs`, those that held a formula when first edited.
     had_formula: std::collections::HashSet<u32>,
     /// Cells whose value changed: every cell an edit recomputes is noted here, a million in
@@ -263,9 +265,6 @@ struct ChangeLog {
     sheets: bool,
     /// Cells were inserted or deleted ([`Workbook::shift_cells`]).
     shifted: bool,
-    /// Places an edited cell left when an insertion or deletion reused it elsewhere
-    /// (`shift.rs`): still edited places, though no cell is there to name them.
-    left: Vec<(SheetId, Pos)>,
 }
 
 /// Cells edited since [`Workbook::start_journal`], each with the input it held before.
@@ -284,12 +283,15 @@ struct Journal {
 struct CellBits(Vec<u64>);
 
 impl CellBits {
-    fn insert(&mut self, id: u32) {
+    /// Adds `id`; whether it was not in the set before.
+    fn insert(&mut self, id: u32) -> bool {
         let (word, bit) = (id as usize / 64, id % 64);
         if word >= self.0.len() {
             self.0.resize(word + 1, 0);
         }
+        let fresh = self.0[word] & (1 << bit) == 0;
         self.0[word] |= 1 << bit;
+        fresh
     }
 
     fn remove(&mut self, id: u32) {
@@ -741,17 +743,9 @@ impl Workbook {
         };
         let mut formulas_replaced = cells(&mut log.had_formula.iter().copied());
         formulas_replaced.retain(|&(sheet, pos)| !self.is_formula(sheet, pos));
-        let with_left = |mut places: Vec<(SheetId, Pos)>| {
-            if !log.left.is_empty() {
-                places.extend_from_slice(&log.left);
-                places.sort_by_key(|&(s, p)| (s, p.row, p.col));
-                places.dedup();
-            }
-            places
-        };
         Some(Changes {
-            inputs: with_left(cells(&mut log.inputs.iter().copied())),
-            values: with_left(cells(&mut log.values.ids())),
+            inputs: cells(&mut log.inputs.ids()),
+            values: cells(&mut log.values.ids()),
             names: log.names,
             sheets: log.sheets,
             shifted: log.shifted,
@@ -1155,7 +1149,7 @@ impl Workbook {
             debug_assert!(cell.formula == NO_FORMULA, "a freed cell holds no formula");
             (cell.value, cell.dependents) = (Value::Blank, Deps::None);
             if let Some(log) = &mut self.changes {
-                log.inputs.remove(&id);
+                log.inputs.remove(id);
                 log.had_formula.remove(&id);
                 log.values.remove(id);
             }

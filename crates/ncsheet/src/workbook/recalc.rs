@@ -63,6 +63,11 @@ impl SpillState {
         self.areas.is_empty() && self.blocked.is_empty()
     }
 
+    /// The anchors showing `#SPILL!`.
+    pub(super) fn blocked_anchors(&self) -> impl Iterator<Item = u32> + '_ {
+        self.blocked.keys().copied()
+    }
+
     pub fn owner(&self, id: u32) -> Option<u32> {
         self.owners.get(&id).copied()
     }

@@ -65,6 +65,14 @@ impl SheetEdit {
         }
     }
 
+    /// The count of lines across the axis (columns when rows move).
+    fn across_limit(&self) -> u32 {
+        match self.axis {
+            Axis::Rows => MAX_COLS,
+            Axis::Columns => MAX_ROWS,
+        }
+    }
+
     /// (along the axis, across it) of `p`.
     fn split(&self, p: Pos) -> (u32, u32) {
         match self.axis {
@@ -221,10 +229,17 @@ impl Workbook {
         let mut moves = self.moves(sheet, &edit)?;
         let idle = self.idle_cells(sheet, &edit);
         let free = self.free_slots(&moves);
+        // Unlinked while their edges lie where they were made: the moving cells are cleared
+        // and written below, which unlinks and links the formulas among them.
+        let readers = self.other_readers(sheet, &edit, &moves);
+        for &id in &readers {
+            self.unlink(id);
+        }
+        let mut touched: Vec<u32> = moves.iter().map(|&(id, _, _)| id).chain(readers.iter().copied()).collect();
         for &(id, _, _) in &moves {
             let c = &self.cells[id as usize];
             let (s, p) = (c.sheet, c.pos);
-            let first_edit = self.changes.as_ref().is_some_and(|log| !log.inputs.contains(&id));
+            let first_edit = self.changes.as_ref().is_some_and(|log| !log.inputs.contains(id));
             self.set_constant(s, p, Value::Blank);
             if first_edit {
                 // A formula moved or deleted with its row was not replaced by a constant
@@ -256,6 +271,7 @@ impl Workbook {
                     let _still_unparsed = self.set_input_deferred(s, to, &text);
                 }
             }
+            touched.extend(self.sheets[s as usize].get(to));
         }
         let names_moved = self.follow_names(sheet, &edit);
         self.shift_lines(sheet, &edit);
@@ -263,9 +279,57 @@ impl Workbook {
             log.names |= names_moved;
             log.shifted = true;
         }
-        self.names_unlinked = true;
-        self.recalculate();
+        for &id in &readers {
+            self.link(id);
+        }
+        self.recalculate_shifted(sheet, touched);
         Ok(())
+    }
+
+    /// Recomputes what the edit changed: the cells it cleared, wrote or relinked and what
+    /// depends on them, as an edit of those cells would, and the spills blocked on `sheet`
+    /// (what blocked one may have moved away). A full recalculation when names were
+    /// redefined before without relinking, which only it catches up on.
+    fn recalculate_shifted(&mut self, sheet: SheetId, mut touched: Vec<u32>) {
+        self.ranges.drop_unused();
+        if self.names_unlinked {
+            self.recalculate();
+            return;
+        }
+        let blocked = self.spill.blocked_anchors().filter(|&a| self.cells[a as usize].sheet == sheet);
+        touched.extend(blocked.collect::<Vec<_>>());
+        self.recalculate_from(touched);
+    }
+
+    /// The formula cells not among `moves` whose edges reach the part of `sheet` the edit
+    /// moves or deletes: those reading it through a defined name, a 3-D reference, or a
+    /// reference made at run time (INDIRECT, OFFSET), whose formula the edit leaves as it
+    /// is while the cells under it move. Found through the graph, before anything moves:
+    /// the dependents of the cells there and of the range nodes meeting it. Every other
+    /// formula reading there is among `moves`, its reference following its cells.
+    fn other_readers(&self, sheet: SheetId, edit: &SheetEdit, moves: &[Move]) -> Vec<u32> {
+        let mut readers = Vec::new();
+        for (id, c) in self.cells.iter().enumerate() {
+            if c.sheet == sheet
+                && !c.dependents.is_empty()
+                && edit.moved(c.pos) != Some(c.pos)
+                && self.sheets[sheet as usize].get(c.pos) == Some(id as u32)
+            {
+                readers.extend_from_slice(c.dependents.as_slice());
+            }
+        }
+        let (across_first, across_last) = edit.band.unwrap_or((0, edit.across_limit() - 1));
+        let part = Rect::new(edit.join(edit.at, across_first), edit.join(edit.limit() - 1, across_last));
+        // Each node looked at once: `RangeIndex::meeting` reads a bucket per column and 16
+        // rows, billions for the rest of a sheet.
+        for node in self.ranges.nodes.iter().filter(|n| n.sheet == sheet && recalc::meets(n.rect, part)) {
+            readers.extend_from_slice(node.dependents.as_slice());
+        }
+        readers.sort_unstable();
+        readers.dedup();
+        // `moves` is in cell order.
+        readers.retain(|id| moves.binary_search_by_key(id, |&(moved, _, _)| moved).is_err());
+        readers
     }
 
     /// Gives every moved cell a cell where it lands, before any is written (a formula
@@ -277,13 +341,20 @@ impl Workbook {
     /// `Columns(1).Insert` before a full column made a million cells a turn, and passed the
     /// workbook's cell limit in nine turns.
     fn place_moved_cells(&mut self, moves: &[Move], idle: Vec<u32>) {
-        let arriving: FxMap<(SheetId, Pos), ()> =
-            moves.iter().filter_map(|&(id, to, _)| to.map(|to| ((self.cells[id as usize].sheet, to), ()))).collect();
+        // The cells where something arrives, each at its place on the grid as the cells
+        // offered for reuse are (by id: a map of a million places took a seventh of a
+        // `Columns(1).Insert` before a full column).
+        let mut arriving = CellBits::default();
+        for &(id, to, _) in moves {
+            if let Some(cell) = to.and_then(|to| self.sheets[self.cells[id as usize].sheet as usize].get(to)) {
+                arriving.insert(cell);
+            }
+        }
         let reusable = |id: &u32| {
             let c = &self.cells[*id as usize];
             c.formula == NO_FORMULA
                 && c.value.is_blank()
-                && !arriving.contains_key(&(c.sheet, c.pos))
+                && !arriving.contains(*id)
                 && !self.bad_inputs.contains_key(id)
                 && !self.notes.contains_key(id)
                 && self.spill.owner(*id).is_none()
@@ -317,16 +388,13 @@ impl Workbook {
     }
 
     /// Moves emptied cell `id` ([`Workbook::place_moved_cells`]) to `to`, where no cell is:
-    /// the place it leaves reads as blank without it. Its dependents are linked again when
-    /// the edit rebuilds the graph. The change log keeps the place it left as edited (a csv
-    /// saves the places edited), the journal the place it takes as blank before (an undo
-    /// empties it).
+    /// the place it leaves reads as blank without it (a csv saved after the edit writes the
+    /// places of its text that hold nothing now as empty: `io::save`). The formulas that
+    /// read it are unlinked already, and link the cells where they read next. The journal
+    /// keeps the place it takes as blank before (an undo empties it).
     fn reuse_cell(&mut self, id: u32, sheet: SheetId, to: Pos) {
         let (left_sheet, left) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
         self.sheets[left_sheet as usize].unset(left);
-        if let Some(log) = self.changes.as_mut().filter(|log| log.inputs.contains(&id)) {
-            log.left.push((left_sheet, left));
-        }
         if let Some(journal) = self.journal.as_mut() {
             if journal.seen.insert((sheet, to)) {
                 journal.before.push((sheet, to, String::new()));
