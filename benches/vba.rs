@@ -34,8 +34,8 @@ impl Case {
     fn parse(name: &str) -> Result<Case, String> {
         let (kind, n) = name.rsplit_once('-').ok_or_else(|| format!("bad case name {name:?}"))?;
         let n = n.parse().map_err(|_| format!("bad size in {name:?}"))?;
-        if !["bubble", "loops", "concat", "cells", "calls"].contains(&kind) {
-            return Err(format!("unknown case kind in {name:?} (bubble, loops, concat, cells, calls)"));
+        if !["bubble", "loops", "concat", "cells", "calls", "textcompare"].contains(&kind) {
+            return Err(format!("unknown case kind in {name:?} (bubble, loops, concat, cells, calls, textcompare)"));
         }
         Ok(Case { name: name.to_string(), kind: kind.to_string(), n })
     }
@@ -60,6 +60,15 @@ impl Case {
             ),
             "cells" => format!(
                 "Sub Main()\n    Dim i As Long, total As Double\n    For i = 1 To {n}\n        total = total + Cells(i, 1).Value\n    Next i\n    Debug.Print total\nEnd Sub\n"
+            ),
+            // The searches a text-processing module makes with vbTextCompare, 100 times over a
+            // text of N characters (s, then "XYZ" at its end), each reading it whole.
+            "textcompare" => format!(
+                "Sub Main()\n    Dim s As String, a, i As Long, total As Double\n    s = String({n}, \"a\") & \"XYZ\"\n    \
+                 For i = 1 To 100\n        total = total + InStr(1, s, \"xyz\", vbTextCompare) + InStrRev(s, \"xyz\", -1, vbTextCompare)\n        \
+                 a = Split(s, \"Y\", -1, vbTextCompare)\n        \
+                 total = total + UBound(a) + Len(Replace(s, \"z\", \"q\", 1, -1, vbTextCompare))\n    Next i\n    \
+                 Debug.Print total\nEnd Sub\n"
             ),
             _ => format!(
                 "Function Twice(ByVal x As Long) As Long\n    Twice = x * 2 + 1\nEnd Function\n\
@@ -89,6 +98,9 @@ impl Case {
             }
             "concat" => format!("{n} {}", (b'A' + (n % 26) as u8) as char),
             "cells" => (n * (n + 1) / 2).to_string(),
+            // InStr and InStrRev find "XYZ" at N + 1, Split gives two items (UBound 1), Replace
+            // keeps the length N + 3.
+            "textcompare" => (100 * ((n + 1) + (n + 1) + 1 + (n + 3))).to_string(),
             _ => (1..=n).map(|i| (2 * i + 1) % 7).sum::<u64>().to_string(),
         }
     }

@@ -73,6 +73,13 @@ fn find_and_search_of_long_needles_answer_by_position() {
         ("=SEARCH(\"É\",\"aé\u{1F600}É\",3)", Value::Number(5.0)),
         ("=FIND(\"É\",\"aé\u{1F600}É\")", Value::Number(5.0)),
         ("=SEARCH(\"~?\",\"ab?c\")", Value::Number(3.0)),
+        // Wildcards: the part before the first `*` sought as text (no `?` in it), the rest once
+        // after it; 16,000 "a" and `*b` first fit at 1 and the one "b" ends the text.
+        ("=SEARCH(REPT(\"A\",16000)&\"*B\",REPT(\"a\",32000)&\"b\")", Value::Number(1.0)),
+        ("=SEARCH(REPT(\"A\",16000)&\"*C\",REPT(\"a\",32000)&\"b\")", Value::Error(XlError::Value)),
+        ("=SEARCH(\"É*X\",\"aé\u{1F600}Éx\")", Value::Number(2.0)),
+        ("=SEARCH(\"b?d*\",\"ABCD\")", Value::Number(2.0)),
+        ("=SEARCH(\"b?d*\",\"ÀBCD\")", Value::Number(2.0)),
         ("=FIND(\"\",\"abc\",4)", Value::Number(4.0)),
         ("=FIND(\"\",\"abc\",5)", Value::Error(XlError::Value)),
         // 20,000 needles in one text of 32,000 characters: read, 6.4·10^8 bytes, past the limit.

@@ -324,6 +324,28 @@ fn instr_with_a_comparison() {
     assert_eq!(value("InStr(1, \"XXpXXpXXPXXP\", \"W\", vbTextCompare)"), n(0.0));
 }
 
+// A textual comparison (vbTextCompare, "InStr function", "InStrRev function", "Split
+// function", "Replace function", "Filter function") ignores case beyond ASCII too ("É" is
+// "é"), and the positions given and taken are characters, not bytes: "àbécÉ" has "é" at 3,
+// "É" at 5.
+#[test]
+fn text_comparisons_fold_case_beyond_ascii_and_count_characters() {
+    assert_eq!(value("InStr(1, \"àbécÉ\", \"É\", vbTextCompare)"), n(3.0));
+    assert_eq!(value("InStr(1, \"àbécÉ\", \"É\", vbBinaryCompare)"), n(5.0));
+    assert_eq!(value("InStr(4, \"àbécÉ\", \"é\", 1)"), n(5.0));
+    assert_eq!(value("InStrRev(\"ÉàéÀ\", \"à\", -1, vbTextCompare)"), n(4.0));
+    assert_eq!(value("InStrRev(\"ÉàéÀ\", \"à\", -1, vbBinaryCompare)"), n(2.0));
+    assert_eq!(value("InStrRev(\"ÉàéÀ\", \"É\", 3, 1)"), n(3.0));
+    let out = printed(
+        "    Dim a\n    a = Split(\"xÄyäz\", \"ä\", -1, vbTextCompare)\n    Debug.Print UBound(a); a(0); a(1); a(2)\n\
+         \x20   a = Split(\"xÄyäz\", \"ä\")\n    Debug.Print UBound(a); a(0); a(1)\n\
+         \x20   Debug.Print Replace(\"ÖlÖl\", \"öl\", \"-\", 1, -1, vbTextCompare); \" \"; Replace(\"ÖlÖl\", \"öl\", \"-\", 2, -1, 1); \
+         \" \"; Replace(\"ÖlÖl\", \"öl\", \"-\")\n\
+         \x20   a = Filter(Array(\"Straße\", \"ÜBER\", \"über\", \"Ober\"), \"Über\", True, vbTextCompare)\n    Debug.Print UBound(a); a(0); a(1)",
+    );
+    assert_eq!(out, [" 2 xyz", " 1 xÄyz", "-- l- ÖlÖl", " 1 ÜBERüber"]);
+}
+
 // "StrComp function": -1, 0, 1; the page's example: StrComp("ABCD", "abcd", 1) is 0,
 // with 0 it is -1, StrComp("abcd", "ABCD") is 1.
 #[test]

@@ -12,7 +12,7 @@ use crate::eval::functions::ValueFn;
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::Expr;
 
-use super::strings::{fold_case, Finder};
+use super::strings::{find_from, Searched};
 use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_text, EVERY, FIRST, NO_NULL};
 
 /// A value Let-coerced to a whole number as VBA does ([MS-VBAL] 5.5.1.2.1): halves to even,
@@ -233,8 +233,8 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // The text is read whole however little is left of it (`Replace(s, s, "")`).
     ctx.charge_texts(&values[..1]);
     let result = lift_vba_values(ctx, values, "Replace", NO_NULL, &|v| {
-        let text: Vec<char> = vba_text(&v[0])?.chars().collect();
-        let find: Vec<char> = vba_text(&v[1])?.chars().collect();
+        let text = vba_text(&v[0])?;
+        let find = vba_text(&v[1])?;
         let with = vba_text(&v[2])?;
         let start = if has_start { raised.whole(&v[3], LONG_MAX)? } else { 1.0 };
         let count = if has_count { raised.whole(&v[4], LONG_MAX)? } else { -1.0 };
@@ -250,8 +250,8 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if count < -1.0 {
             return Err(raised.set(5, "count is below -1"));
         }
-        let from = (start as usize - 1).min(text.len());
-        let replaced = replaced(&text[from..], &find, &with, count, ignore_case, limit.saturating_mul(4));
+        let search = Search { find: &find, with: &with, count, ignore_case };
+        let replaced = replaced(&text, start as usize - 1, search, limit.saturating_mul(4));
         replaced.map(Value::text).ok_or_else(|| {
             over.set(true);
             XlError::Value
@@ -263,27 +263,37 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     raised.raise(ctx, "Replace", result)
 }
 
-/// `text` with up to `count` (-1: every) non-overlapping `find`s, left to right, replaced by
-/// `with`; `None` once the result passes `cap` bytes (refused before it is built further).
-fn replaced(text: &[char], find: &[char], with: &str, count: f64, ignore_case: bool, cap: usize) -> Option<String> {
-    let fold = |chars: &[char]| -> Vec<char> { chars.iter().map(|c| fold_case(*c)).collect() };
-    let (hay, needle) = if ignore_case { (fold(text), fold(find)) } else { (text.to_vec(), find.to_vec()) };
-    // One linear search (`Finder`): comparing `find` at every position was quadratic.
-    let finder = Finder::new(&needle);
+/// What Replace looks for and puts in its place: up to `count` (-1: every) `find`s, compared
+/// as `ignore_case` says.
+struct Search<'a> {
+    find: &'a str,
+    with: &'a str,
+    count: f64,
+    ignore_case: bool,
+}
+
+/// `text` from character `start` (0-based) on, with the non-overlapping `find`s, left to
+/// right, replaced by `with`; `None` once the result passes `cap` bytes (refused before it is
+/// built further). One linear search through the text folded once ([`Searched`]): comparing
+/// `find` at every position was quadratic, and folding into lists of characters cost 20 ns a
+/// character.
+fn replaced(text: &str, start: usize, search: Search, cap: usize) -> Option<String> {
+    let (mut hay, needle) = (Searched::new(text, search.ignore_case), Searched::new(search.find, search.ignore_case));
+    let mut from = hay.at_char(start).unwrap_or_else(|| hay.at_byte(hay.bytes().len()));
     let mut out = String::new();
-    let mut left = count;
-    let mut i = 0;
-    while !needle.is_empty() && left != 0.0 {
-        let Some(at) = finder.find(&hay, i) else { break };
-        out.extend(&text[i..at]);
-        out.push_str(with);
-        i = at + needle.len();
+    let mut left = search.count;
+    while !needle.bytes().is_empty() && left != 0.0 {
+        let Some(at) = find_from(&hay, &needle, from.folded) else { break };
+        let (found, end) = (hay.at_byte(at), hay.at_byte(at + needle.bytes().len()));
+        out.push_str(&text[from.text..found.text]);
+        out.push_str(search.with);
+        from = end;
         left -= 1.0;
         if out.len() > cap {
             return None;
         }
     }
-    out.extend(&text[i..]);
+    out.push_str(&text[from.text..]);
     (out.len() <= cap).then_some(out)
 }
 

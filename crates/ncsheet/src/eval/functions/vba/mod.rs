@@ -14,6 +14,7 @@ use crate::eval::dates::DateSystem;
 use crate::eval::functions::api::{
     explain_lifted_size, lift_values, number_result, Ctx, FnSpec, Operand, Outside, MANY,
 };
+use crate::eval::functions::text::strings::{wild_match, WildToken};
 use crate::eval::value::{Value, XlError, XlResult};
 use crate::formula::ast::{Expr, ExprKind};
 
@@ -1523,56 +1524,24 @@ pub fn wildcard_matches(pattern: &str, text: &str) -> bool {
     like_matches(&tokens, &text.chars().collect::<Vec<_>>())
 }
 
-/// Whether `tokens` match the whole of `text`: greedy, returning only to the last `*` seen.
-/// Every other token takes one character, so a later `*` can take whatever an earlier one
-/// would have, and the match is found when there is one. The table over (token, position)
-/// this replaces filled the rest of the text for each position a `*` was reached at:
-/// `String(100000, "a") Like` a pattern of 2,000 `*a` and a `*b` ran past 30 s.
+/// Whether `tokens` match the whole of `text` (the one wildcard matcher, [`wild_match`]).
 fn like_matches(tokens: &[LikeToken], text: &[char]) -> bool {
-    like_match_steps(tokens, text).0
+    wild_match(tokens, text, true).0
 }
 
-/// [`like_matches`] and its steps: at most the text's length times the pattern's, about their
-/// sum unless a long run of single tokens after a `*` nearly matches at every position.
-fn like_match_steps(tokens: &[LikeToken], text: &[char]) -> (bool, usize) {
-    let (mut t, mut s, mut steps) = (0, 0, 0);
-    // The last `*` and the text position it has taken up to.
-    let mut star: Option<(usize, usize)> = None;
-    loop {
-        steps += 1;
-        if t == tokens.len() && s == text.len() {
-            return (true, steps);
-        }
-        match (tokens.get(t), text.get(s)) {
-            (Some(LikeToken::Any), _) => {
-                star = Some((t, s));
-                t += 1;
-                continue;
-            }
-            (Some(token), Some(&c)) if takes(token, c) => {
-                (t, s) = (t + 1, s + 1);
-                continue;
-            }
-            _ => {}
-        }
-        match star {
-            Some((st, ss)) if ss < text.len() => {
-                star = Some((st, ss + 1));
-                (t, s) = (st + 1, ss + 1);
-            }
-            _ => return (false, steps),
-        }
+impl WildToken<char> for LikeToken {
+    fn is_any(&self) -> bool {
+        matches!(self, LikeToken::Any)
     }
-}
 
-/// Whether a token other than `*` takes the character `c`.
-fn takes(token: &LikeToken, c: char) -> bool {
-    match token {
-        LikeToken::One => true,
-        LikeToken::Digit => c.is_ascii_digit(),
-        LikeToken::Char(x) => *x == c,
-        LikeToken::List(ranges, negated) => ranges.iter().any(|(lo, hi)| (*lo..=*hi).contains(&c)) != *negated,
-        LikeToken::Any => false,
+    fn takes(&self, c: char) -> bool {
+        match self {
+            LikeToken::One => true,
+            LikeToken::Digit => c.is_ascii_digit(),
+            LikeToken::Char(x) => *x == c,
+            LikeToken::List(ranges, negated) => ranges.iter().any(|(lo, hi)| (*lo..=*hi).contains(&c)) != *negated,
+            LikeToken::Any => false,
+        }
     }
 }
 
@@ -1636,7 +1605,7 @@ mod tests {
         // a step for every later position at each position a `*` reached, past 30 s.
         let text: Vec<char> = "a".repeat(100_000).chars().collect();
         let tokens = like_tokens(&("*a".repeat(2000) + "*b")).expect("a valid pattern");
-        let (found, steps) = like_match_steps(&tokens, &text);
+        let (found, steps) = wild_match(&tokens, &text, true);
         assert!(!found);
         assert!(steps <= 3 * (text.len() + tokens.len()), "{steps} steps");
     }
