@@ -323,6 +323,18 @@ fn text_positions_count_utf16_units_as_excel() {
     assert_eq!(text("=FIND(\"b\",\"👍b\")"), Value::Number(3.0));
     assert_eq!(text("=SEARCH(\"B\",\"👍b👍b\",4)"), Value::Number(6.0));
     assert_eq!(text("=LEN(REPT(\"é\",3))"), Value::Number(3.0));
+    // Every piece MID cuts, against the standard library's reading of those UTF-16 units
+    // (a half of a surrogate pair is U+FFFD, as `String::from_utf16_lossy` reads it).
+    let sample = "a👍é👍bc";
+    let units: Vec<u16> = sample.encode_utf16().collect();
+    for start in 1..=units.len() + 1 {
+        for count in 0..=units.len() + 1 - start {
+            let from = start - 1;
+            let want = String::from_utf16_lossy(&units[from..(from + count).min(units.len())]);
+            let got = text(&format!("=MID(\"{sample}\",{start},{count})"));
+            assert_eq!(got, Value::Text(want.into()), "MID({start},{count})");
+        }
+    }
 }
 
 #[test]

@@ -103,7 +103,7 @@ fn iteration_of_a_large_cycle_stops_at_the_work_budget_and_says_so() {
     assert_eq!(common::sheet::get(&wb, "A5000"), common::sheet::n(10_000_000.0));
     let cut = wb.problems().into_iter().find(|p| matches!(p.kind, ProblemKind::IterationCut { .. }));
     let cut = cut.expect("the cut is reported");
-    assert_eq!(cut.kind, ProblemKind::IterationCut { cells: 5000, rounds: 2000, asked: 32_767 });
+    assert_eq!(cut.kind, ProblemKind::IterationCut { cells: 5000, rounds: 2000, asked: 32_767, limit: 10_000_000 });
     assert!(cut.message().contains("stopped after 2000 of its 32767 rounds"), "{}", cut.message());
 
     let mut small = Workbook::with_sheet();
@@ -112,6 +112,50 @@ fn iteration_of_a_large_cycle_stops_at_the_work_budget_and_says_so() {
     common::sheet::set(&mut small, "B1", "=A1+1");
     assert_eq!(common::sheet::get(&small, "B1"), common::sheet::n(65_534.0));
     assert!(small.problems().is_empty());
+}
+
+/// The rounds a cycle's iteration ran before the budget stopped it, from its first cell's
+/// note (`None`: it was not stopped).
+fn iteration_cut(wb: &ncsheet::workbook::Workbook) -> Option<(u32, u64)> {
+    use ncsheet::workbook::ProblemKind;
+    wb.problems().into_iter().find_map(|p| match p.kind {
+        ProblemKind::IterationCut { rounds, limit, .. } => Some((rounds, limit)),
+        _ => None,
+    })
+}
+
+/// An iterating cycle is charged the work inside its cells, not only their count: A1 =
+/// B1+0*SUM(SEQUENCE(10000)), B1 = A1+1 makes at least 10,000 items in each evaluation of
+/// A1, at least 625 evaluations' worth (16 items an evaluation), so a budget of 100,000 allows
+/// at most 161 rounds, where a count of evaluations allowed 32,767 (two cells, 65,534
+/// evaluations, each of 10^6 items took minutes). After r rounds from 0, A1 is r − 1 and
+/// B1 is r (worked by hand). A LAMBDA's calls count as evaluations: A1 = A1 + SUM of a
+/// 30 × 30 MAKEARRAY of its row number (900 calls, 30 × 465 = 13,950 a round) stops within
+/// 112 rounds at 13,950 × rounds.
+#[test]
+fn iterating_cells_are_charged_the_work_they_do() {
+    use ncsheet::workbook::{Iteration, Workbook};
+    let iterating = |cells: &[(&str, &str)]| {
+        let mut wb = Workbook::with_sheet();
+        wb.settings_mut().iteration_work = Some(100_000);
+        wb.set_iteration(Some(Iteration { count: 32_767, max_change: 0.0 }));
+        for (cell, formula) in cells {
+            common::sheet::set(&mut wb, cell, formula);
+        }
+        wb
+    };
+    let wb = iterating(&[("A1", "=B1+0*SUM(SEQUENCE(10000))"), ("B1", "=A1+1")]);
+    let (rounds, limit) = iteration_cut(&wb).expect("the cut is reported");
+    assert_eq!(limit, 100_000);
+    assert!((1..=161).contains(&rounds), "{rounds} rounds");
+    assert_eq!(common::sheet::get(&wb, "A1"), common::sheet::n(f64::from(rounds) - 1.0));
+    assert_eq!(common::sheet::get(&wb, "B1"), common::sheet::n(f64::from(rounds)));
+    assert!(wb.formulas_evaluated() <= 2 * 161 + 10, "{} evaluations", wb.formulas_evaluated());
+
+    let wb = iterating(&[("A1", "=A1+SUM(MAKEARRAY(30,30,LAMBDA(r,c,r)))")]);
+    let (rounds, _) = iteration_cut(&wb).expect("the cut is reported");
+    assert!((1..=112).contains(&rounds), "{rounds} rounds");
+    assert_eq!(common::sheet::get(&wb, "A1"), common::sheet::n(13_950.0 * f64::from(rounds)));
 }
 
 /// The budget is the recalculation's, not each cycle's: 400 two-cell cycles (Ak = Bk+1,

@@ -143,6 +143,36 @@ fn with_small_lambda_budget() -> Workbook {
     wb
 }
 
+/// A LAMBDA of BYROW, BYCOL, MAP or MAKEARRAY that returns an array gives `#CALC!` for that
+/// item, as Excel does ("anything but a single value return from the LAMBDA function
+/// returns a #CALC error", Microsoft's BYROW function page), and the note says so. Its arrays
+/// are let go as each call ends: 1,000 rows each returning 100 items, against a limit of
+/// 10,000 items held at once (`Settings::live_items`), were counted as held together, so the
+/// note spoke of that limit's `#NUM!` while the cell showed `#CALC!`.
+#[test]
+fn a_lambda_returning_an_array_for_one_item_is_calc_and_says_why() {
+    let mut wb = Workbook::with_sheet();
+    wb.settings_mut().live_items = Some(10_000);
+    for (cell, formula) in [
+        ("A1", "=SUM(BYROW(SEQUENCE(1000),LAMBDA(r,SEQUENCE(1,100))))"),
+        ("A2", "=SUM(BYCOL(SEQUENCE(1,1000),LAMBDA(c,SEQUENCE(100))))"),
+        ("A3", "=SUM(MAP(SEQUENCE(1000),LAMBDA(x,SEQUENCE(100))))"),
+        ("A4", "=SUM(MAKEARRAY(10,100,LAMBDA(r,c,SEQUENCE(100))))"),
+    ] {
+        set(&mut wb, cell, formula);
+        assert_eq!(get(&wb, cell), Value::Error(XlError::Calc), "{formula}");
+        let problems = problems_at(&wb, cell);
+        // The function whose LAMBDA it is: the one SUM is given.
+        let function = formula["=SUM(".len()..].split('(').next().unwrap();
+        let returned = format!("the LAMBDA of {function} returned an array");
+        assert!(mentions(&problems, &["#CALC!", &returned]), "{formula}: {problems:?}");
+        assert!(!problems.iter().any(|p| p.contains("#NUM!")), "{formula}: {problems:?}");
+    }
+    // One value from each call is an ordinary result: 1,000 rows of SUM(SEQUENCE(1,100)).
+    set(&mut wb, "B1", "=SUM(BYROW(SEQUENCE(1000),LAMBDA(r,SUM(SEQUENCE(1,100)))))");
+    assert_eq!(get(&wb, "B1"), n(5_050_000.0));
+}
+
 /// The LAMBDAs of MAP, REDUCE, SCAN, BYROW, BYCOL and MAKEARRAY share one budget of work per
 /// formula (`MAX_LAMBDA_WORK`, 2^28: each call, each array item made, each cell read): an
 /// array grown by VSTACK at each step of a REDUCE (copied whole each time: n²/2 items), a

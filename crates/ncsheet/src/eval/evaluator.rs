@@ -156,6 +156,11 @@ pub trait Env {
         MAX_LAMBDA_WORK
     }
 
+    /// Told of the work formulas do besides making their values ([`WorkDone`]), inside
+    /// LAMBDAs or not: a workbook adds it up, and an iterating cycle is charged what its
+    /// rounds did (`workbook/cycles.rs`).
+    fn work_done(&self, _done: WorkDone) {}
+
     /// The array items one formula may hold at once (the workbook's `Settings::live_items`):
     /// [`MAX_LIVE_ITEMS`] unless a test asks for less.
     fn live_items_limit(&self) -> usize {
@@ -345,6 +350,11 @@ struct Local {
     omitted: bool,
 }
 
+/// The list of names a loop's LAMBDA calls run in, made once and emptied after each call
+/// ([`Ctx::apply_closure`]): MAP, MAKEARRAY, REDUCE… keep one for all their calls.
+#[derive(Default)]
+pub struct CallFrame(Vec<Local>);
+
 /// A LAMBDA made into a value (`Value::Lambda`): the `LAMBDA(…)` call and what its body
 /// sees where it was written, the LET names and parameters around it and the cell it is
 /// evaluated for, so that `LET(f, LAMBDA(x, LAMBDA(y, x+y)), f(3)(4))` is 7 wherever the inner
@@ -521,6 +531,16 @@ fn lambda_work_note(limit: u64) -> String {
          bytes of text made or read and step of a regression or matrix product inside them; an array \
          grown item by item is copied at every step)"
     )
+}
+
+/// Work formulas did besides making their values, for a caller that budgets many
+/// evaluations (an iterating cycle evaluates its cells up to 32,767 times): the units
+/// [`Ctx::charge`] counted, inside LAMBDAs or not (array items made or read, cells read,
+/// 16 bytes of text), and the LAMBDA calls run (MAP's, REDUCE's…, and named ones).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WorkDone {
+    pub items: u64,
+    pub calls: u64,
 }
 
 /// The work [`Ctx::charge`] counts for a value made: its array's stored items, or its
@@ -1172,7 +1192,8 @@ impl<'a> Ctx<'a> {
     /// parameter given. These calls are not counted against [`MAX_LAMBDA_CALLS`]: there are
     /// as many as the array has items, and no recursion. They are counted, with what their
     /// bodies make and read, against [`MAX_LAMBDA_WORK`]: past it, `#NUM!` with a note.
-    pub fn apply_closure(&mut self, closure: &Rc<Closure>, values: &[Value]) -> XlResult<Value> {
+    /// `frame` is the list of names the calls of one loop share ([`CallFrame`]).
+    pub fn apply_closure(&mut self, closure: &Rc<Closure>, values: &[Value], frame: &mut CallFrame) -> XlResult<Value> {
         self.within_lambda_work()?;
         let lambda = closure.lambda();
         if lambda.params.len() != values.len() {
@@ -1180,13 +1201,17 @@ impl<'a> Ctx<'a> {
         }
         let bound = lambda.param_names().zip(values);
         let bound = bound.map(|(name, value)| Local { name: name.clone(), value: value.clone(), omitted: false });
-        let bound: Vec<Local> = bound.collect();
         self.iterating += 1;
         let mark = self.held;
-        let out = self.run_closure(closure, bound);
+        let out = self.run_closure(closure, bound, frame);
         let out = self.held_result(mark, out);
         self.iterating -= 1;
         Ok(out)
+    }
+
+    /// One more LAMBDA call, told to the environment ([`Env::work_done`]).
+    fn count_call(&self) {
+        self.env.work_done(WorkDone { items: 0, calls: 1 });
     }
 
     /// Starts a new evaluation's counts against [`MAX_LAMBDA_WORK`] and [`MAX_LAMBDA_CALLS`]:
@@ -1223,6 +1248,7 @@ impl<'a> Ctx<'a> {
     /// of all of it ([`Host::work`]).
     #[inline]
     pub fn charge(&self, work: usize) {
+        self.env.work_done(WorkDone { items: work as u64, calls: 0 });
         if self.iterating > 0 {
             self.lambda_work.set(self.lambda_work.get().saturating_add(work as u64));
         }
@@ -1255,6 +1281,7 @@ impl<'a> Ctx<'a> {
     /// their work has passed [`MAX_LAMBDA_WORK`] (or the smaller budget the workbook's
     /// settings give, [`Env::lambda_work_limit`]).
     fn within_lambda_work(&mut self) -> XlResult<()> {
+        self.count_call();
         let work = self.lambda_work.get() + 1;
         self.lambda_work.set(work);
         let limit = self.env.lambda_work_limit();
@@ -1289,12 +1316,20 @@ impl<'a> Ctx<'a> {
         }
         let values: Vec<Value> = args.iter().map(|a| self.eval(a)).collect();
         let bound = parameters(&lambda, args, values);
-        self.run_closure(closure, bound)
+        self.run_closure(closure, bound, &mut CallFrame::default())
     }
 
-    /// A closure's body with `bound` parameters, among the names it was made with.
-    fn run_closure(&mut self, closure: &Rc<Closure>, bound: Vec<Local>) -> Value {
-        let mut locals = closure.locals.clone();
+    /// A closure's body with `bound` parameters, among the names it was made with, listed in
+    /// `spare` (emptied, and handed back emptied: MAKEARRAY's LAMBDA is called millions of
+    /// times, and a list made and freed for each call was most of a call's cost).
+    fn run_closure(
+        &mut self,
+        closure: &Rc<Closure>,
+        bound: impl IntoIterator<Item = Local>,
+        spare: &mut CallFrame,
+    ) -> Value {
+        let mut locals = std::mem::take(&mut spare.0);
+        locals.extend_from_slice(&closure.locals);
         if let Some(name) = &closure.own_name {
             locals.push(Local { name: name.clone(), value: Value::Lambda(closure.clone()), omitted: false });
         }
@@ -1304,7 +1339,11 @@ impl<'a> Ctx<'a> {
         self.depth += 1;
         let out = self.eval(closure.lambda().body);
         self.depth -= 1;
-        (self.sheet, self.at, self.in_name, self.locals) = saved;
+        let mut used;
+        (self.sheet, self.at, self.in_name, used) = saved;
+        std::mem::swap(&mut self.locals, &mut used);
+        used.clear();
+        spare.0 = used;
         out
     }
 
@@ -1454,6 +1493,7 @@ impl<'a> Ctx<'a> {
             return Err(self.explain_once(XlError::Num, why));
         }
         self.lambda_calls += 1;
+        self.count_call();
         if self.lambda_calls > MAX_LAMBDA_CALLS {
             let why = format!(
                 "more than {MAX_LAMBDA_CALLS} LAMBDA calls in one formula (ncsheet's limit) calling {name}: \
@@ -1484,7 +1524,9 @@ impl<'a> Ctx<'a> {
         }
     }
 
-    fn explain_once(&mut self, error: XlError, message: String) -> XlError {
+    /// [`Ctx::explain`], unless the same note is there already: for an error a loop may meet
+    /// at every turn (each call of MAP's LAMBDA).
+    pub fn explain_once(&mut self, error: XlError, message: String) -> XlError {
         if !self.notes.iter().any(|n| n.error == error && n.message == message) {
             self.notes.push(Note { error, message });
         }

@@ -15,7 +15,7 @@ pub mod surface;
 pub mod testing;
 pub mod value;
 
-pub use evaluator::{Ctx, Env, Note, Operand, RowHidden, UserCall};
+pub use evaluator::{CallFrame, Ctx, Env, Note, Operand, RowHidden, UserCall, WorkDone};
 pub use locale::Locale;
 pub use settings::{FunctionLimits, Settings};
 pub use value::{too_many_items, too_many_items_note, Array, Value, XlError, XlResult, MAX_ARRAY_ITEMS};

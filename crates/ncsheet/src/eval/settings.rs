@@ -29,6 +29,10 @@ pub struct Settings {
     /// `MAX_LIVE_ITEMS` (docs/limits.md). A smaller one lets a test show what is held
     /// without holding gigabytes.
     pub live_items: Option<usize>,
+    /// The evaluations the iterating cycles of one recalculation may spend together, the work
+    /// inside them counted; `None`: ncsheet's limit, the workbook's
+    /// `MAX_ITERATION_EVALUATIONS` (docs/limits.md). A smaller one lets a test show what is charged in a moment.
+    pub iteration_work: Option<u64>,
 }
 
 /// VBA's `Rnd` generator, as Microsoft's KB 231847 gives it: x1 = (x0 × 1140671485 +

@@ -16,7 +16,7 @@
 use std::cell::Cell;
 use std::rc::Rc;
 
-use crate::eval::{Ctx, Env, Note, UserCall, Value};
+use crate::eval::{Ctx, Env, Note, UserCall, Value, WorkDone};
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, SheetId};
 
@@ -39,26 +39,35 @@ impl Default for Iteration {
 }
 
 /// Cell evaluations the iterating cycles of one recalculation may spend together, rounds ×
-/// cells summed over the cycles: Excel's largest count, 32,767 rounds, of a 5,000-cell cycle
-/// is 164 million evaluations, which ran for minutes with INDEX or INDIRECT in each cell, and
-/// so did 10,000 two-cell cycles (each within a budget of its own). A cycle of up to 305
-/// cells alone has all 32,767 rounds; a larger one, or one met after others spent the
-/// budget, stops earlier, its first cell saying so ([`IterationCut`]).
+/// cells summed over the cycles, with the work inside each evaluation ([`round_cost`]):
+/// Excel's largest count, 32,767 rounds, of a 5,000-cell cycle is 164 million evaluations,
+/// which ran for minutes with INDEX or INDIRECT in each cell, and so did 10,000 two-cell
+/// cycles (each within a budget of its own), and two cells, one of them summing a
+/// SEQUENCE of a million items. A cycle of up to 305 plain cells alone has all 32,767
+/// rounds; a larger one, one doing more work, or one met after others spent the budget,
+/// stops earlier, its first cell saying so ([`IterationCut`]).
 pub const MAX_ITERATION_EVALUATIONS: u64 = 10_000_000;
 
-/// A cycle whose iteration [`MAX_ITERATION_EVALUATIONS`] stopped before it settled or ran
-/// the rounds the workbook asks for.
+/// Units of work ([`WorkDone::items`]: array items made or read, cells read, 16 bytes of
+/// text) an evaluation of the budget stands for: a plain cell's evaluation costs about as
+/// much as making or reading 10 to 20 items (`SUM(SEQUENCE(1000000))` about 11 ms). A
+/// LAMBDA call ([`WorkDone::calls`]) counts as an evaluation of its own.
+pub const ITEMS_PER_EVALUATION: u64 = 16;
+
+/// What a round of a cycle of `cells` cells cost against [`MAX_ITERATION_EVALUATIONS`]: an
+/// evaluation per cell, and the work `done` inside them.
+fn round_cost(cells: usize, done: WorkDone) -> u64 {
+    (cells as u64).saturating_add(done.calls).saturating_add(done.items / ITEMS_PER_EVALUATION)
+}
+
+/// A cycle whose iteration the budget ([`MAX_ITERATION_EVALUATIONS`], or the workbook's
+/// smaller `limit`) stopped before it settled or ran the rounds the workbook asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IterationCut {
     pub cells: usize,
     pub rounds: u32,
     pub asked: u32,
-}
-
-/// The rounds a cycle of `cells` cells may run of the `asked` ones, at least one, when the
-/// cycles before it in this recalculation have `spent` evaluations of the budget.
-fn rounds_allowed(asked: u32, cells: usize, spent: u64) -> u32 {
-    (MAX_ITERATION_EVALUATIONS.saturating_sub(spent) / cells.max(1) as u64).clamp(1, u64::from(asked)) as u32
+    pub limit: u64,
 }
 
 /// A component larger than this is not probed cell by cell (each probe of a range looks
@@ -133,19 +142,29 @@ impl Workbook {
     /// values, until the largest change of a round is within the limit.
     /// Values that a first round moves by no more than the maximum change had converged
     /// already and stay as they were: a workbook Excel saved shows its iterated values.
+    ///
+    /// Each round is charged what it cost ([`round_cost`]) against the recalculation's
+    /// budget; the next round runs only while one more like the last one fits (the first
+    /// always runs), so a cycle of plain cells gets budget ÷ cells rounds.
     fn iterate_component(&mut self, cells: &[u32], iteration: Iteration, late: &mut Vec<u32>) {
         let start = self.iteration_start(cells, late);
         let asked = iteration.count.max(1);
-        let rounds = rounds_allowed(asked, cells.len(), self.cycles.iteration_spent);
+        let limit = self.settings.iteration_work.unwrap_or(MAX_ITERATION_EVALUATIONS);
         self.iteration_cuts.remove(&cells[0]);
-        for round in 0..rounds {
-            let mut largest = 0.0f64;
-            for &id in cells {
-                let before = self.cells[id as usize].value.clone();
-                self.evaluate(id, late);
-                largest = largest.max(change(&before, &self.cells[id as usize].value));
+        let mut last_cost = 0;
+        for round in 0..asked {
+            if round > 0 && self.cycles.iteration_spent.saturating_add(last_cost) > limit {
+                let cut = IterationCut { cells: cells.len(), rounds: round, asked, limit };
+                self.iteration_cuts.insert(cells[0], cut);
+                return;
             }
-            self.cycles.iteration_spent += cells.len() as u64;
+            let work_before = self.scratch.work.get();
+            let largest = self.iteration_round(cells, late);
+            let work_after = self.scratch.work.get();
+            let done =
+                WorkDone { items: work_after.items - work_before.items, calls: work_after.calls - work_before.calls };
+            last_cost = round_cost(cells.len(), done);
+            self.cycles.iteration_spent = self.cycles.iteration_spent.saturating_add(last_cost);
             if largest <= iteration.max_change {
                 if round == 0 {
                     for (&id, value) in cells.iter().zip(start) {
@@ -155,9 +174,18 @@ impl Workbook {
                 return;
             }
         }
-        if rounds < asked {
-            self.iteration_cuts.insert(cells[0], IterationCut { cells: cells.len(), rounds, asked });
+    }
+
+    /// One round of an iteration: each cell of the cycle evaluated in order; returns how far
+    /// the value that moved most moved.
+    fn iteration_round(&mut self, cells: &[u32], late: &mut Vec<u32>) -> f64 {
+        let mut largest = 0.0f64;
+        for &id in cells {
+            let before = self.cells[id as usize].value.clone();
+            self.evaluate(id, late);
+            largest = largest.max(change(&before, &self.cells[id as usize].value));
         }
+        largest
     }
 
     /// The values a cycle's iteration starts from, each cell set back to it: those the cells

@@ -1365,6 +1365,10 @@ impl Env for Workbook {
         self.settings.lambda_work_limit()
     }
 
+    fn work_done(&self, done: crate::eval::WorkDone) {
+        self.scratch.add_work(done);
+    }
+
     fn live_items_limit(&self) -> usize {
         self.settings.live_items_limit()
     }

@@ -41,6 +41,7 @@ pub enum ProblemKind {
         cells: usize,
         rounds: u32,
         asked: u32,
+        limit: u64,
     },
     /// Why a function returned this error value.
     Note {
@@ -59,12 +60,13 @@ impl Problem {
             ProblemKind::MissingSheet(name) => format!("no sheet named '{name}'"),
             ProblemKind::Cycle(cells) => format!("circular reference: {}", cycle_path(cells)),
             ProblemKind::Note { error, message } => format!("{error}: {message}"),
-            ProblemKind::IterationCut { cells, rounds, asked } => format!(
+            ProblemKind::IterationCut { cells, rounds, asked, limit } => format!(
                 "the iteration of this cycle of {cells} cells stopped after {rounds} of its {asked} rounds: \
-                 ncsheet's limit of {} cell evaluations for the iterating cycles of one recalculation (rounds × \
-                 cells, all cycles together) was reached before no value moved by more than the maximum change; \
-                 the values are those of round {rounds}",
-                super::cycles::MAX_ITERATION_EVALUATIONS
+                 ncsheet's limit of {limit} cell evaluations for the iterating cycles of one recalculation (rounds × \
+                 cells, all cycles together, the work inside a cell counted too: {} array items made or read, \
+                 or a LAMBDA call, as one evaluation) was reached before no value moved by more than the \
+                 maximum change; the values are those of round {rounds}",
+                super::cycles::ITEMS_PER_EVALUATION
             ),
         }
     }
@@ -127,7 +129,8 @@ impl Workbook {
         }
         for (&id, cut) in &self.iteration_cuts {
             let (sheet, pos) = (self.cells[id as usize].sheet, self.cells[id as usize].pos);
-            let kind = ProblemKind::IterationCut { cells: cut.cells, rounds: cut.rounds, asked: cut.asked };
+            let kind =
+                ProblemKind::IterationCut { cells: cut.cells, rounds: cut.rounds, asked: cut.asked, limit: cut.limit };
             out.push(Problem { sheet, pos, kind, text: String::new(), span: None });
         }
         for &id in self.notes.keys() {

@@ -125,8 +125,9 @@ pub struct Cycles {
     /// recalculation began: what an edit reports as new without copying every cycle.
     recorded: Vec<u32>,
     forgotten: Vec<Vec<u32>>,
-    /// Cell evaluations the iterating cycles have spent in this recalculation, against
-    /// `cycles::MAX_ITERATION_EVALUATIONS` for all of them together.
+    /// Cell evaluations the iterating cycles have spent in this recalculation, with the work
+    /// inside them (`cycles::round_cost`), against `cycles::MAX_ITERATION_EVALUATIONS` for
+    /// all of them together.
     pub(super) iteration_spent: u64,
 }
 
@@ -249,6 +250,20 @@ pub struct Scratch {
     locale: Locale,
     /// Formulas evaluated since the workbook was made ([`Workbook::formulas_evaluated`]).
     evaluations: u64,
+    /// The work inside those evaluations, summed as the formulas tell it
+    /// ([`crate::eval::Env::work_done`]; an iterating cycle is charged it, `cycles.rs`).
+    pub(super) work: std::cell::Cell<crate::eval::WorkDone>,
+}
+
+impl Scratch {
+    /// Adds `done` to the work the workbook's formulas did ([`Scratch::work`]).
+    pub(super) fn add_work(&self, done: crate::eval::WorkDone) {
+        let sum = self.work.get();
+        self.work.set(crate::eval::WorkDone {
+            items: sum.items.saturating_add(done.items),
+            calls: sum.calls.saturating_add(done.calls),
+        });
+    }
 }
 
 /// Entries of the search's buffers kept between recalculations.

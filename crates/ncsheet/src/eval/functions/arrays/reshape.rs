@@ -643,32 +643,45 @@ fn expand(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 }
 
 fn stack(ctx: &mut Ctx, args: &[Expr], horizontal: bool) -> XlResult<Value> {
-    let mut parts = Vec::new();
+    let mut parts = Vec::with_capacity(args.len());
     for e in args {
-        let b = block(ctx, e)?;
-        parts.push(if horizontal { Rc::new(transpose(&b)) } else { b });
+        parts.push(block(ctx, e)?);
     }
-    // Stack vertically; horizontal stacking is the transpose of stacking the transposes.
-    let cols = parts.iter().map(|p| p.cols).max().unwrap_or(0);
-    let total_rows = parts.iter().fold(0usize, |n, p| n.saturating_add(p.rows));
-    ctx.room_for(total_rows, cols)?;
-    // Item by item into one vector: a REDUCE growing its array with VSTACK copies it at
-    // every step, so each copy is kept to the items themselves.
-    let mut data = Vec::with_capacity(total_rows * cols);
-    for p in &parts {
-        for row in p.data.chunks(p.cols.max(1)) {
-            data.extend_from_slice(row);
-            data.resize(data.len() + cols - row.len(), Value::Error(XlError::NA));
+    let widest = |f: fn(&Array) -> usize| parts.iter().map(|p| f(p)).max().unwrap_or(0);
+    let total = |f: fn(&Array) -> usize| parts.iter().fold(0usize, |n, p| n.saturating_add(f(p)));
+    let (rows, cols) =
+        if horizontal { (widest(|p| p.rows), total(|p| p.cols)) } else { (total(|p| p.rows), widest(|p| p.cols)) };
+    ctx.room_for(rows, cols)?;
+    // Each part's rows copied whole into one vector, in the result's order: a REDUCE growing
+    // its array with HSTACK or VSTACK copies it at every step, so each copy is kept to one
+    // pass over the items (HSTACK went through two transposes and a copy item by item).
+    let mut data = Vec::with_capacity(rows * cols);
+    if horizontal {
+        for r in 0..rows {
+            for p in &parts {
+                if r < p.rows {
+                    data.extend_from_slice(&p.data[r * p.cols..(r + 1) * p.cols]);
+                } else {
+                    data.resize(data.len() + p.cols, Value::Error(XlError::NA));
+                }
+            }
+        }
+    } else {
+        for p in &parts {
+            if p.cols == cols {
+                data.extend_from_slice(&p.data);
+                continue;
+            }
+            for row in p.data.chunks(p.cols) {
+                data.extend_from_slice(row);
+                data.resize(data.len() + cols - row.len(), Value::Error(XlError::NA));
+            }
         }
     }
     if data.is_empty() {
         return Err(XlError::Calc);
     }
-    let out = array(data.len() / cols, cols, data);
-    match (out, horizontal) {
-        (Value::Array(o), true) => Ok(Value::Array(Rc::new(transpose(&o)))),
-        (v, _) => Ok(v),
-    }
+    Ok(array(data.len() / cols, cols, data))
 }
 
 fn hstack(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {

@@ -6,6 +6,7 @@ use std::rc::Rc;
 
 use crate::eval::functions::api::{block, number, Ctx, FnSpec, MANY};
 use crate::eval::value::{too_much_text_note, Array, Closure, TextBudget, Value, XlError, XlResult};
+use crate::eval::CallFrame;
 use crate::formula::ast::{Expr, ExprKind};
 
 pub const FUNCTIONS: &[FnSpec] = &[
@@ -70,11 +71,17 @@ pub const FUNCTIONS: &[FnSpec] = &[
     .dynamic(),
 ];
 
+/// The LAMBDA a loop of MAP, REDUCE, … calls, with the list of names its calls share.
+struct Caller {
+    closure: Rc<Closure>,
+    frame: CallFrame,
+}
+
 /// Runs `f` with the LAMBDA that `e` gives (written in place, a LET name or parameter, a
 /// defined name, a function choosing one); `#VALUE!` when it gives anything else.
-fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Rc<Closure>) -> XlResult<T>) -> XlResult<T> {
+fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &mut Caller) -> XlResult<T>) -> XlResult<T> {
     match ctx.eval(e) {
-        Value::Lambda(closure) => f(ctx, &closure),
+        Value::Lambda(closure) => f(ctx, &mut Caller { closure, frame: CallFrame::default() }),
         Value::Error(XlError::Name) => Err(XlError::Name),
         _ => Err(XlError::Value),
     }
@@ -82,8 +89,8 @@ fn with_lambda<T>(ctx: &mut Ctx, e: &Expr, f: impl FnOnce(&mut Ctx, &Rc<Closure>
 
 /// The LAMBDA's body with its parameters bound to `values`; `#NUM!` (the whole call's) once
 /// the LAMBDAs of one formula have done ncsheet's limit of work (`MAX_LAMBDA_WORK`).
-fn apply(ctx: &mut Ctx, lambda: &Rc<Closure>, values: &[Value]) -> XlResult<Value> {
-    ctx.apply_closure(lambda, values)
+fn apply(ctx: &mut Ctx, lambda: &mut Caller, values: &[Value]) -> XlResult<Value> {
+    ctx.apply_closure(&lambda.closure, values, &mut lambda.frame)
 }
 
 /// `#NUM!` with the budget's note before the first call when `work` (the calls, at one item
@@ -94,14 +101,37 @@ fn within_calls(ctx: &mut Ctx, work: usize) -> XlResult<()> {
     ctx.within_lambda_budget(work)
 }
 
-/// A LAMBDA's result as one item of a result array: an array result is `#CALC!`, as in
-/// Excel, and a blank reads as 0.
-fn as_item(v: Value) -> Value {
+/// A LAMBDA's result as one item of the result array of `name` (MAP, SCAN, BYROW…): a blank
+/// reads as 0, and an array is `#CALC!`, as in Excel ("anything but a single value return
+/// from the LAMBDA function returns a #CALC error", Microsoft's BYROW function page), the
+/// note saying why.
+fn as_item(ctx: &mut Ctx, v: Value, name: &str) -> Value {
     match v.unwrap_single() {
-        Value::Array(_) => Value::Error(XlError::Calc),
+        Value::Array(_) => Value::Error(ctx.explain_once(XlError::Calc, nested_array_note(name))),
         Value::Blank => Value::Number(0.0),
         v => v,
     }
+}
+
+/// The note of `#CALC!` for a LAMBDA of `name` that returned an array.
+fn nested_array_note(name: &str) -> String {
+    format!(
+        "the LAMBDA of {name} returned an array where each call must return one value: the items of \
+         {name}'s result cannot be arrays (Excel's #CALC!; wrap the LAMBDA's result in INDEX, SUM or \
+         TEXTJOIN to make it one value)"
+    )
+}
+
+/// The LAMBDA called with `values`, its result made one item of `name`'s result
+/// ([`as_item`]): an array it returned is let go at once, not counted as held by the
+/// calls after it (100,000 rows each returning 1,000 items passed the limit on items held
+/// at once, where Excel's answer is `#CALC!`).
+fn item_of(ctx: &mut Ctx, lambda: &mut Caller, values: &[Value], name: &str) -> XlResult<Value> {
+    let mark = ctx.held_mark();
+    let out = apply(ctx, lambda, values)?;
+    let item = as_item(ctx, out, name);
+    ctx.release_to(mark, &item);
+    Ok(item)
 }
 
 /// Adds a LAMBDA's result to the array being made, its text counted against the limit every
@@ -134,7 +164,7 @@ fn map(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         for r in 0..rows {
             for c in 0..cols {
                 let values: Vec<Value> = blocks.iter().map(|b| b.broadcast_get(r, c)).collect();
-                let item = as_item(apply(ctx, lambda, &values)?);
+                let item = item_of(ctx, lambda, &values, "MAP")?;
                 push_item(ctx, &mut data, &mut text, item)?;
             }
         }
@@ -176,7 +206,8 @@ fn scan(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         for v in &items.data {
             acc = apply(ctx, lambda, &[acc.clone(), v.clone()])?;
             ctx.release_to(mark, &acc);
-            push_item(ctx, &mut data, &mut text, as_item(acc.clone()))?;
+            let item = as_item(ctx, acc.clone(), "SCAN");
+            push_item(ctx, &mut data, &mut text, item)?;
         }
         Ok(array(items.rows, items.cols, data))
     })
@@ -197,7 +228,8 @@ fn by_line(ctx: &mut Ctx, args: &[Expr], rows: bool) -> XlResult<Value> {
             } else {
                 Array::column((0..a.rows).map(|r| a.get(r, i).clone()).collect())
             };
-            let item = as_item(apply(ctx, lambda, &[Value::Array(Rc::new(line))])?);
+            let name = if rows { "BYROW" } else { "BYCOL" };
+            let item = item_of(ctx, lambda, &[Value::Array(Rc::new(line))], name)?;
             push_item(ctx, &mut data, &mut text, item)?;
         }
         Ok(if rows { array(lines, 1, data) } else { array(1, lines, data) })
@@ -228,7 +260,7 @@ fn makearray(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         for r in 0..rows {
             for c in 0..cols {
                 let at = [Value::Number((r + 1) as f64), Value::Number((c + 1) as f64)];
-                let item = as_item(apply(ctx, lambda, &at)?);
+                let item = item_of(ctx, lambda, &at, "MAKEARRAY")?;
                 push_item(ctx, &mut data, &mut text, item)?;
             }
         }
