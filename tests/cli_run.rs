@@ -146,6 +146,47 @@ fn workbook_save_keeps_the_changes_only_where_save_says() {
     assert_eq!(std::fs::read_to_string(&book).unwrap(), "1\n");
 }
 
+// A macro that writes to a fixed Windows folder runs unchanged once --map-dir maps that folder
+// onto the output folder, matched as Windows matches paths (either case, / or \); "Print #
+// statement": each line ends with CR LF. A path that goes on past the folder (.., a deeper
+// folder) is still refused at its line, and a DIR other than --out-dir is a usage error.
+// The name --input gives a save dialog is written there too.
+#[test]
+fn map_dir_runs_a_macro_that_writes_to_a_fixed_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let book = write(dir.path(), "b.csv", "1\n");
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let bas = write(
+        dir.path(),
+        "m.bas",
+        "Sub Main()\n  Open \"C:\\Users\\me\\Desktop\\part.nc\" For Output As #1\n  Print #1, \"G0 X0\"\n  Close #1\n  \
+         f = Application.GetSaveAsFilename()\n  Open \"c:/users/ME/desktop/\" & f For Output As #2\n  Print #2, \"M30\"\n  \
+         Close #2\nEnd Sub\n",
+    );
+    let map = format!("C:\\Users\\me\\Desktop={}", out_dir.display());
+    let out = ncsheet(&["run", &book, &bas, "--map-dir", &map, "--input", "end.nc"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert_eq!(std::fs::read_to_string(out_dir.join("part.nc")).unwrap(), "G0 X0\r\n");
+    assert_eq!(std::fs::read_to_string(out_dir.join("end.nc")).unwrap(), "M30\r\n");
+    for escape in ["..\\x.nc", "sub\\x.nc"] {
+        let bas = write(
+            dir.path(),
+            "e.bas",
+            &format!("Sub Main()\n  Open \"C:\\Users\\me\\Desktop\\{escape}\" For Output As #1\nEnd Sub\n"),
+        );
+        let out = ncsheet(&["run", &book, &bas, "--map-dir", &map]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_ne!(out.status.code(), Some(0), "{err}");
+        assert!(err.contains("e.bas:2:") && err.contains("refused"), "{err}");
+    }
+    let other = format!("C:\\x={}", dir.path().display());
+    let out = ncsheet(&["run", &book, &bas, "--out-dir", out_dir.to_str().unwrap(), "--map-dir", &other]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("is not the --out-dir folder"), "{err}");
+}
+
 /// Issue 32: the shipped chamfer sheet and macro work together as README says: the csv's
 /// labelled rows are the macro's inputs, and the cut goes from T1 to T2 of DOMAIN.md §1
 /// (outer, α = 45°: XA 44.262742, ZA −4.6, XB 33.062742, ZB 1), as rs274 reads it.

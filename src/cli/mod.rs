@@ -98,7 +98,8 @@ pub enum Command {
     Functions(FunctionsArgs),
     Cam(cam::CamArgs),
     Arcfit(cam::ArcfitArgs),
-    Run(run::RunArgs),
+    // Boxed: the run command's options are by far the largest (clippy::large_enum_variant).
+    Run(Box<run::RunArgs>),
     Ballpath(ballpath::BallpathArgs),
     Macros(macros::MacrosArgs),
     Show(show::ShowArgs),
@@ -317,7 +318,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Functions(args) => functions(args),
         Command::Cam(args) => cam::cam(args),
         Command::Arcfit(args) => cam::arcfit(args),
-        Command::Run(args) => run::run(args, delimiter),
+        Command::Run(args) => run::run(*args, delimiter),
         Command::Ballpath(args) => ballpath::run(args),
         Command::Macros(args) => macros::run(args),
         Command::Show(args) => show::run(args, delimiter),

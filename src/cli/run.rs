@@ -105,6 +105,12 @@ pub struct RunArgs {
     /// cancelled: InputBox gives "", the others False. Without --input a dialog stops the run
     #[arg(long = "input", value_name = "TEXT")]
     pub inputs: Vec<String>,
+    /// A folder the macro names by a fixed path (C:\Users\me\Desktop), mapped onto the --out-dir
+    /// folder, repeatable: a file the macro names under it is that name in --out-dir, compared
+    /// as Windows does (either case, / or \); a path going further (.., a deeper folder) is
+    /// still refused. PREFIX=DIR names the folder too: it is --out-dir, or becomes it
+    #[arg(long = "map-dir", value_name = "PREFIX[=DIR]")]
+    pub map_dirs: Vec<String>,
     /// Stop the macro after this many statements (an endless loop, usually)
     #[arg(long, default_value_t = vba::DEFAULT_MAX_STATEMENTS)]
     pub max_statements: u64,
@@ -203,7 +209,8 @@ pub fn run(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
     }
 }
 
-fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
+fn run_on_this_thread(mut args: RunArgs, delimiter: Option<u8>) -> Result<()> {
+    args.map_dirs = mapped_prefixes(&args.map_dirs, &mut args.out_dir)?;
     if args.subprograms && dialect::with_subprograms(args.dialect.name()).is_none() {
         return Err(Error::Usage(format!(
             "--subprograms writes NC31 subprograms: give --dialect nc31 or nc81 (the {} dialect gets the cycles \
@@ -244,6 +251,7 @@ fn run_on_this_thread(args: RunArgs, delimiter: Option<u8>) -> Result<()> {
             args.max_memory.unwrap_or(vba::DEFAULT_MAX_MEMORY),
         )?,
         answers: (!args.inputs.is_empty()).then(|| args.inputs.clone()),
+        mapped_dirs: args.map_dirs.clone(),
         arc_tolerance: args.arc_tol,
         ..RunOptions::default()
     };
@@ -370,6 +378,47 @@ pub(super) fn program_summary(program: &Program, text: &str, dialect: &str, writ
 /// The code page the .bas and .cls files given are read in: --code-page, else the workbook's
 /// own VBA project's (its PROJECTCODEPAGE record, as the VBA editor imports into it), else none,
 /// and a file past ASCII that is not UTF-8 is refused at its first such byte.
+/// The folder prefixes of `--map-dir PREFIX[=DIR]`. A DIR is the --out-dir folder, or becomes
+/// it when there is none: the macro's files stay in one folder.
+fn mapped_prefixes(specs: &[String], out_dir: &mut Option<PathBuf>) -> Result<Vec<String>> {
+    let mut prefixes = Vec::new();
+    for spec in specs {
+        let (prefix, dir) = match spec.split_once('=') {
+            Some((p, d)) => (p, Some(PathBuf::from(d))),
+            None => (spec.as_str(), None),
+        };
+        if prefix.trim_end_matches(['/', '\\']).is_empty() {
+            return Err(Error::Usage(format!(
+                "--map-dir {spec}: name the folder the macro writes to (C:\\Users\\me\\out)"
+            )));
+        }
+        match (dir, out_dir.as_ref()) {
+            (None, None) => {
+                return Err(Error::Usage(format!("--map-dir {spec}: the folder maps onto --out-dir DIR; give one")))
+            }
+            (Some(dir), None) => *out_dir = Some(dir),
+            (Some(dir), Some(out)) if !same_folder(&dir, out) => {
+                return Err(Error::Usage(format!(
+                    "--map-dir {spec}: {} is not the --out-dir folder {}; a macro's files go in that one folder",
+                    dir.display(),
+                    out.display()
+                )))
+            }
+            _ => {}
+        }
+        prefixes.push(prefix.to_string());
+    }
+    Ok(prefixes)
+}
+
+/// Whether two spellings name one folder (as the system resolves them, else as written).
+fn same_folder(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => a == b,
+    }
+}
+
 fn module_code_page(args: &RunArgs, project: super::macros::WorkbookProject) -> Option<u16> {
     args.code_page.or_else(|| project.read.and_then(|p| p.ok()).map(|p| p.code_page))
 }

@@ -446,6 +446,26 @@ impl Files {
 
 /// A folder as `ThisWorkbook.Path` gives it: without a separator at its end ("Path
 /// property (Excel)": the complete path to the workbook's folder), the root excepted.
+/// The rest of `path` after one of the folders `run --map-dir` maps onto the --out-dir folder
+/// (`D:\\cam\\out` for `D:\\cam\\out\\prog.nc`), compared as Windows compares them: letters
+/// in either case, `/` or `\\` between the parts. The rest is then a sandbox name like any
+/// other, so `..`, a deeper folder or a device name after the prefix is still refused.
+fn mapped_name<'p>(prefixes: &[String], path: &'p str) -> Option<&'p str> {
+    let same = |a: char, b: char| a.eq_ignore_ascii_case(&b) || (matches!(a, '/' | '\\') && matches!(b, '/' | '\\'));
+    prefixes.iter().find_map(|prefix| {
+        let prefix = prefix.trim_end_matches(['/', '\\']);
+        let mut rest = path.char_indices();
+        for p in prefix.chars() {
+            let (_, c) = rest.next()?;
+            if !same(p, c) {
+                return None;
+            }
+        }
+        let (at, separator) = rest.next()?;
+        (!prefix.is_empty() && matches!(separator, '/' | '\\')).then(|| &path[at + 1..])
+    })
+}
+
 fn folder_spelling(dir: &str) -> String {
     let trimmed = dir.trim_end_matches(['/', '\\']);
     if trimmed.is_empty() {
@@ -662,7 +682,9 @@ impl Interp<'_, '_> {
     /// `Dir` and `Kill` take Windows' wildcards).
     fn sandbox_pattern(&self, what: &str, path: &str, wild: bool, span: Span) -> Run<String> {
         let dir = self.access().out_dir.as_deref().map(folder_spelling);
-        let inside = dir.and_then(|d| path.strip_prefix(d.as_str())?.strip_prefix(['\\', '/']).map(str::to_string));
+        let inside = dir
+            .and_then(|d| path.strip_prefix(d.as_str())?.strip_prefix(['\\', '/']).map(str::to_string))
+            .or_else(|| mapped_name(&self.options.mapped_dirs, path).map(str::to_string));
         let name = inside.as_deref().unwrap_or(path);
         let checked = if wild { name.replace(['*', '?'], "_") } else { name.to_string() };
         match checked_name(&checked) {

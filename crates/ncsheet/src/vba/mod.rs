@@ -492,6 +492,10 @@ pub struct RunOptions {
     /// The files the macro may read and write (`run --out-dir`, `--in-file`); `None`: file
     /// statements are refused by name, as when the language had none.
     pub files: Option<FileAccess>,
+    /// Folders a macro names by a fixed path (`C:\\Users\\x\\Desktop`), each mapped onto the
+    /// --out-dir folder of [`RunOptions::files`] (`run --map-dir`): a path under one is the
+    /// file name after it, which the sandbox's rules then check as any other name.
+    pub mapped_dirs: Vec<String>,
     /// The answers to the macro's dialogs (`InputBox`, `Application.InputBox`,
     /// `GetOpenFilename`, `GetSaveAsFilename`), in the order it opens them (`run --input`);
     /// past the last one a dialog is cancelled. `None`: the run has no answers, and a dialog
@@ -626,6 +630,7 @@ impl Default for RunOptions {
             workbook_name: None,
             files: None,
             answers: None,
+            mapped_dirs: Vec::new(),
             arc_tolerance: None,
             looks: Vec::new(),
             limits_from: LimitsFrom::RunOptions,
