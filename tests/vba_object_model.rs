@@ -4,6 +4,8 @@
 //! value is worked by hand from the page of Microsoft's reference named at the test, or from
 //! [MS-VBAL] (the VBA language specification), never from our own earlier output.
 
+mod common;
+
 use ncsheet::vba::{self, MacroError, RunOptions, RunOutput};
 use ncsheet::workbook::Workbook;
 
@@ -423,4 +425,98 @@ fn list_rows_add_inserts_a_row_of_the_table() {
         [text("A2"), text("A3"), text("A7"), text("B7"), text("A8")],
         [t("first"), t("a"), t("e"), ncsheet::eval::Value::Number(1.0), t("Total")]
     );
+}
+
+/// A table follows the rows and columns a macro inserts and deletes as Excel's does
+/// (Microsoft's "Resize a table by adding or removing rows and columns": a row or column
+/// inserted inside a table is the table's; Excel names a new column `Column1`): a row inserted
+/// inside grows it, one above moves it, a column inserted inside is a new column of that name
+/// written in its header cell, deleting all its rows deletes it. Shifting the cells of some of
+/// its columns is refused as Excel refuses it ("This operation is not allowed. The operation is
+/// attempting to shift cells in a table on your worksheet."), run-time error 1004.
+#[test]
+fn tables_follow_inserted_and_deleted_rows_and_columns() {
+    let (out, _) = printed_on_tables(
+        "    Dim lo As ListObject\n    Set lo = Worksheets(\"Parts Data\").ListObjects(1)\n    \
+         Rows(3).Insert: Debug.Print lo.Range.Address; lo.ListRows.Count\n    Rows(3).Delete\n    \
+         Columns(\"C\").Insert: Debug.Print lo.Range.Address; \" \"; lo.ListColumns(3).Name; \" \"; Range(\"C1\").Value\n    \
+         Columns(\"C\").Delete: Debug.Print lo.ListColumns(3).Name\n    \
+         Rows(1).Insert: Debug.Print lo.Range.Address\n    \
+         On Error Resume Next\n    Range(\"A3:B3\").Insert Shift:=xlDown: Debug.Print Err.Number; lo.Range.Address\n    \
+         On Error GoTo 0\n    Rows(\"2:7\").Delete: Debug.Print Worksheets(\"Parts Data\").ListObjects.Count",
+    );
+    assert_eq!(
+        out,
+        vec!["$A$1:$F$7 5 ", "$A$1:$G$6 Column1 Column1", "Unit Price", "$A$2:$F$7", " 1004 $A$2:$F$7", " 0 ",]
+    );
+}
+
+/// What a macro run with `--save` writes of a table whose size it changed.
+fn saved_table_part(book: &std::path::Path, body: &str) -> (String, std::path::PathBuf, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let macro_file = dir.path().join("m.bas");
+    std::fs::write(&macro_file, format!("Sub Main()\n{body}\nEnd Sub\n")).unwrap();
+    let saved = dir.path().join("saved.xlsx");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncsheet"))
+        .args(["run".as_ref(), book.as_os_str(), macro_file.as_os_str(), "--save".as_ref(), saved.as_os_str()])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let file = std::fs::File::open(&saved).unwrap();
+    let mut zip = zip::ZipArchive::new(file).unwrap();
+    let mut part = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("xl/tables/table1.xml").unwrap(), &mut part).unwrap();
+    (part, saved, dir)
+}
+
+/// A table a macro grew is saved with its new range, as a table part: a package written anew
+/// (rows were inserted) adds the part, and LibreOffice reads it as the same table (its own
+/// save of our file names `Parts` over A1:F7); a package patched (ListRows.Add took the empty
+/// row below POI's ExcelTables.xlsx table G1:I4, "ListRows.Add method": "the table will
+/// expand to occupy that row without shifting cells") keeps the part, its `ref` and its
+/// `<autoFilter>`'s moved to G1:I5, the calculated column's formula kept.
+#[test]
+fn a_table_a_macro_grew_is_saved_with_its_new_range() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let (part, saved, dir) =
+        saved_table_part(&data.join("libreoffice/tables.xlsx"), "    Worksheets(\"Parts Data\").Rows(3).Insert");
+    assert!(part.contains(r#"displayName="Parts" ref="A1:F7""#) && part.contains("totalsRowCount=\"1\""), "{part}");
+    assert!(part.contains(r#"<tableColumn id="2" name="Qty"/>"#), "{part}");
+    if let Some(lo) = common::xlsx::libreoffice_recalculated(&saved, dir.path()) {
+        let mut zip = zip::ZipArchive::new(std::fs::File::open(lo).unwrap()).unwrap();
+        let mut part = String::new();
+        std::io::Read::read_to_string(&mut zip.by_name("xl/tables/table1.xml").unwrap(), &mut part).unwrap();
+        assert!(part.contains(r#"name="Parts""#) && part.contains(r#"ref="A1:F7""#), "{part}");
+    }
+    let poi = data.join("excel-corpus/public/poi/test-data_spreadsheet_ExcelTables.xlsx");
+    let (part, _, _) = saved_table_part(&poi, "    ActiveSheet.ListObjects(1).ListRows.Add.Range(1) = \"Zed\"");
+    assert!(part.contains(r#"ref="G1:I5""#) && part.contains(r#"<autoFilter ref="G1:I5"/>"#), "{part}");
+    assert!(part.contains("<calculatedColumnFormula>INT(H2/10)</calculatedColumnFormula>"), "{part}");
+}
+
+/// "ListRow.Delete method" (the row's cells go, the rows below move up), "ListObject.Resize
+/// method" ("No cells are inserted or moved"; "The header must remain in the same row"),
+/// "ListObjects.Add method" over a range with headers (xlYes = 1: the first row's cells are
+/// the column names; the table is named Table1, the first name unused), "ListObject.Name
+/// property" (a variable holding the table still reaches it renamed), "ListObject.Unlist
+/// method" (the cells stay).
+#[test]
+fn list_rows_delete_resize_and_list_objects_add_change_the_tables() {
+    let (out, wb) = printed_on_tables(
+        "    Dim lo As ListObject, nt As ListObject\n    Set lo = Worksheets(\"Parts Data\").ListObjects(1)\n    \
+         lo.ListRows(2).Delete\n    Debug.Print lo.Range.Address; lo.ListRows.Count; \" \"; lo.ListRows(2).Range(1)\n    \
+         lo.Resize Range(\"A1:G7\")\n    Debug.Print lo.Range.Address; \" \"; lo.ListColumns(7).Name; lo.ListRows.Count\n    \
+         On Error Resume Next\n    lo.Resize Range(\"A2:F7\")\n    Debug.Print Err.Number\n    On Error GoTo 0\n    \
+         With Worksheets(\"Use\")\n        .Range(\"F1:G1\").Value = Array(\"X\", \"X\"): .Range(\"F2:G3\").Value = 1\n        \
+         Set nt = .ListObjects.Add(xlSrcRange, .Range(\"F1:G3\"), , xlYes)\n    End With\n    \
+         Debug.Print nt.Name; \" \"; nt.Range.Address; \" \"; nt.ListColumns(2).Name; \" \"; Worksheets(\"Use\").Range(\"G1\")\n    \
+         nt.Name = \"Extra\"\n    Debug.Print nt.Name; Worksheets(\"Use\").ListObjects(\"extra\").ListRows.Count\n    \
+         nt.Unlist\n    Debug.Print Worksheets(\"Use\").ListObjects.Count; Worksheets(\"Use\").Range(\"G1\")",
+    );
+    assert_eq!(
+        out,
+        vec!["$A$1:$F$5 3  c", "$A$1:$G$7 Column1 5 ", " 1004 ", "Table1 $F$1:$G$3 X2 X2", "Extra 2 ", " 0 X2",]
+    );
+    let tables = wb.table_shapes();
+    assert_eq!(tables.len(), 1);
 }

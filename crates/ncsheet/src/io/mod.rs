@@ -502,7 +502,7 @@ fn rewritten_loss(source: &Path, why: &str) -> String {
     format!(
         "the workbook is written anew ({why}): of {} only cells, defined names, number formats, alignment, bold \
          and italic, fonts' sizes, colours and underlines, solid fills, column widths, row heights, hidden rows \
-         and columns, hyperlinks and the VBA project are kept; charts, drawings, comments, fonts' names, \
+         and columns, hyperlinks, tables and the VBA project are kept; charts, drawings, comments, fonts' names, \
          borders, patterned fills, merged cells, validation, conditional formats, print areas, print titles \
          and Excel's other built-in names and the rest are lost",
         source.display()

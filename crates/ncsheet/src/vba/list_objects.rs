@@ -7,10 +7,13 @@
 //! `Range` and `Index` ("ListRow object", "ListRows.Add method"); For Each over the three
 //! collections.
 //!
-//! An object names its table by name, not by a copy of its rectangle, so a row added through
-//! one variable is seen through every other.
-
-use std::rc::Rc;
+//! `ListRow.Delete`, `ListObject.Resize`, `.Delete`, `.Unlist`, `ListObjects.Add` (a range's
+//! cells made a table, its header row as Excel makes it) and setting a table's `Name` and
+//! `TableStyle` change the workbook's tables, which a saved file writes.
+//!
+//! An object names its table by the workbook's id for it (`TableShape::id`), not by a copy of
+//! its rectangle nor by its name, so a row added through one variable is seen through every
+//! other, and a table renamed is still the one a variable holds.
 
 use crate::eval::functions::vba::errors;
 use crate::eval::{Ctx, Value};
@@ -19,7 +22,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::TableShape;
 
 use super::ast::{Link, Span};
-use super::interp::{Fault, Interp, Run};
+use super::interp::{one_line, Fault, Interp, Run};
 use super::objects::lower;
 use super::sheet_ops::argument;
 use super::value::{print_text, Obj, Var};
@@ -29,14 +32,14 @@ use super::value::{print_text, Obj, Var};
 pub enum TableObj {
     /// `ws.ListObjects`: the tables of a sheet.
     List(SheetId),
-    /// A ListObject, by its table's name.
-    Table(Rc<str>),
+    /// A ListObject, by its table's id.
+    Table(u32),
     /// `lo.ListColumns` and one of them, counted from 0.
-    Columns(Rc<str>),
-    Column(Rc<str>, u32),
+    Columns(u32),
+    Column(u32, u32),
     /// `lo.ListRows` and one data row, counted from 0.
-    Rows(Rc<str>),
-    Row(Rc<str>, u32),
+    Rows(u32),
+    Row(u32, u32),
 }
 
 impl TableObj {
@@ -77,13 +80,11 @@ impl Interp<'_, '_> {
         fault
     }
 
-    /// The table named `name`, or run-time error 424 when the workbook no longer has it.
-    fn table_shape(&self, name: &str, span: Span) -> Run<TableShape> {
-        let tables = self.wb.borrow().table_shapes();
-        tables
-            .into_iter()
-            .find(|t| t.name.eq_ignore_ascii_case(name))
-            .ok_or_else(|| self.table_fault(span, 424, format!("the workbook has no table {name}")))
+    /// The table `id`, or run-time error 424 when the workbook no longer has it (a macro
+    /// deleted it).
+    fn table_shape(&self, id: u32, span: Span) -> Run<TableShape> {
+        let table = self.wb.borrow().table_list().iter().find(|t| t.id == id).cloned();
+        table.ok_or_else(|| self.table_fault(span, 424, "the table was deleted".into()))
     }
 
     /// `ws.ListObjects`, or with `(index or name)` one table of the sheet.
@@ -102,9 +103,9 @@ impl Interp<'_, '_> {
     /// number or the name); a table the sheet has not is "Subscript out of range" (error 9).
     fn list_object_item(&self, ctx: &mut Ctx, sheet: SheetId, link: &Link) -> Run<Obj> {
         let tables = self.sheet_tables(sheet);
-        let names: Vec<String> = tables.into_iter().map(|t| t.name).collect();
+        let names: Vec<String> = tables.iter().map(|t| t.name.clone()).collect();
         let at = self.table_index(ctx, &names, "table", link)?;
-        Ok(Obj::Table(TableObj::Table(names[at].as_str().into())))
+        Ok(Obj::Table(TableObj::Table(tables[at].id)))
     }
 
     /// The place in `names` of `(index or name)`, an index counted from 1.
@@ -131,20 +132,21 @@ impl Interp<'_, '_> {
             TableObj::List(sheet) => match name.as_str() {
                 "count" => Ok(Obj::Value(Value::Number(self.sheet_tables(*sheet).len() as f64))),
                 "item" => self.list_object_item(ctx, *sheet, link),
+                "add" => self.add_list_object(ctx, *sheet, link),
                 _ => self.unmodelled(&Obj::Table(obj.clone()), link),
             },
-            TableObj::Table(table) => self.list_object_member(ctx, table, link),
+            TableObj::Table(table) => self.list_object_member(ctx, *table, link),
             TableObj::Columns(table) => {
-                let t = self.table_shape(table, link.span)?;
+                let t = self.table_shape(*table, link.span)?;
                 match name.as_str() {
                     "count" => Ok(Obj::Value(Value::Number(t.columns.len() as f64))),
                     "item" => self.list_column(ctx, &t, link),
                     _ => self.unmodelled(&Obj::Table(obj.clone()), link),
                 }
             }
-            TableObj::Column(table, col) => self.list_column_member(table, *col, link),
+            TableObj::Column(table, col) => self.list_column_member(*table, *col, link),
             TableObj::Rows(table) => {
-                let t = self.table_shape(table, link.span)?;
+                let t = self.table_shape(*table, link.span)?;
                 match name.as_str() {
                     "count" => Ok(Obj::Value(Value::Number(data_rows(&t).map_or(0, |(a, b)| b - a + 1) as f64))),
                     "item" => self.list_row(ctx, &t, link),
@@ -153,11 +155,12 @@ impl Interp<'_, '_> {
                 }
             }
             TableObj::Row(table, row) => {
-                let t = self.table_shape(table, link.span)?;
+                let t = self.table_shape(*table, link.span)?;
                 let at = t.rect.first.row + t.header_rows + row;
                 match name.as_str() {
                     "range" => self.range_member_or_self(ctx, t.sheet, rows_of(&t, (at, at)), link),
                     "index" => Ok(Obj::Value(Value::Number(f64::from(row + 1)))),
+                    "delete" => self.delete_list_row(ctx, &t, at, link),
                     _ => self.unmodelled(&Obj::Table(obj.clone()), link),
                 }
             }
@@ -174,7 +177,7 @@ impl Interp<'_, '_> {
         self.range_member(ctx, sheet, rect, &item)
     }
 
-    fn list_object_member(&self, ctx: &mut Ctx, table: &Rc<str>, link: &Link) -> Run<Obj> {
+    fn list_object_member(&self, ctx: &mut Ctx, table: u32, link: &Link) -> Run<Obj> {
         let t = self.table_shape(table, link.span)?;
         let nothing = Obj::Value(Value::Blank);
         match lower(link).as_str() {
@@ -199,20 +202,23 @@ impl Interp<'_, '_> {
             "showheaders" => Ok(Obj::Value(Value::Bool(t.header_rows > 0))),
             "parent" => Ok(Obj::Sheet(t.sheet)),
             "listcolumns" if link.args.is_some() => self.list_column(ctx, &t, link),
-            "listcolumns" => Ok(Obj::Table(TableObj::Columns(table.clone()))),
+            "listcolumns" => Ok(Obj::Table(TableObj::Columns(table))),
             "listrows" if link.args.is_some() => self.list_row(ctx, &t, link),
-            "listrows" => Ok(Obj::Table(TableObj::Rows(table.clone()))),
-            _ => self.unmodelled(&Obj::Table(TableObj::Table(table.clone())), link),
+            "listrows" => Ok(Obj::Table(TableObj::Rows(table))),
+            "tablestyle" => Ok(Obj::Value(Value::text(t.style.as_deref().unwrap_or("")))),
+            "resize" => self.resize_list_object(ctx, &t, link),
+            "delete" | "unlist" => self.remove_list_object(&t, lower(link) == "delete"),
+            _ => self.unmodelled(&Obj::Table(TableObj::Table(table)), link),
         }
     }
 
     /// `ListColumns("Qty")` or `ListColumns(2)`.
     fn list_column(&self, ctx: &mut Ctx, t: &TableShape, link: &Link) -> Run<Obj> {
         let at = self.table_index(ctx, &t.columns, "column", link)?;
-        Ok(Obj::Table(TableObj::Column(t.name.as_str().into(), at as u32)))
+        Ok(Obj::Table(TableObj::Column(t.id, at as u32)))
     }
 
-    fn list_column_member(&self, table: &Rc<str>, col: u32, link: &Link) -> Run<Obj> {
+    fn list_column_member(&self, table: u32, col: u32, link: &Link) -> Run<Obj> {
         let t = self.table_shape(table, link.span)?;
         match lower(link).as_str() {
             "name" => Ok(Obj::Value(Value::text(t.columns.get(col as usize).map_or("", String::as_str)))),
@@ -222,8 +228,8 @@ impl Interp<'_, '_> {
                 Some(rows) => Ok(Obj::Range(t.sheet, column_of(rows_of(&t, rows), col))),
                 None => Ok(Obj::Value(Value::Blank)),
             },
-            "parent" => Ok(Obj::Table(TableObj::Table(table.clone()))),
-            _ => self.unmodelled(&Obj::Table(TableObj::Column(table.clone(), col)), link),
+            "parent" => Ok(Obj::Table(TableObj::Table(table))),
+            _ => self.unmodelled(&Obj::Table(TableObj::Column(table, col)), link),
         }
     }
 
@@ -236,7 +242,7 @@ impl Interp<'_, '_> {
             return Err(self.fault_at(link.span, "ListRows(index): a number, counted from 1"));
         }
         let at = self.table_index(ctx, &names, "row", link)?;
-        Ok(Obj::Table(TableObj::Row(t.name.as_str().into(), at as u32)))
+        Ok(Obj::Table(TableObj::Row(t.id, at as u32)))
     }
 
     /// `ListRows.Add([Position], [AlwaysInsert])` ("ListRows.Add method"): a new data row at
@@ -278,8 +284,193 @@ impl Interp<'_, '_> {
             self.insert_or_delete(ctx, t.sheet, below, true, &shift)?;
         }
         let grown = Rect::new(t.rect.first, Pos::new(t.rect.last.row + 1, t.rect.last.col));
-        self.wb.borrow().set_table_rect(&t.name, grown);
-        Ok(Obj::Table(TableObj::Row(t.name.as_str().into(), position)))
+        self.book_mut()?.set_table_rect(t.id, grown);
+        Ok(Obj::Table(TableObj::Row(t.id, position)))
+    }
+
+    /// `lr.Delete` ("ListRow.Delete method"): the row's cells in the table's columns deleted,
+    /// those below moving up. The only data row is emptied instead: a table keeps one row.
+    fn delete_list_row(&self, ctx: &mut Ctx, t: &TableShape, row: u32, link: &Link) -> Run<Obj> {
+        let cells = rows_of(t, (row, row));
+        if data_rows(t).is_some_and(|(a, b)| a == b) {
+            self.write_range(t.sheet, cells, &Value::Blank)?;
+            return Ok(Obj::Value(Value::Blank));
+        }
+        let shift = Link { name: "Delete".into(), args: None, span: link.span };
+        self.insert_or_delete(ctx, t.sheet, cells, false, &shift)
+    }
+
+    /// The range an argument names, or `None` when the argument is left out.
+    fn range_argument(&self, ctx: &mut Ctx, link: &Link, at: usize, name: &str) -> Run<Option<(SheetId, Rect)>> {
+        let Some(expr) = argument(link, at, name) else { return Ok(None) };
+        let operand = ctx.operand(expr);
+        self.take_pending()?;
+        match operand {
+            crate::eval::Operand::Ref(sheet, rect) => Ok(Some((sheet, rect))),
+            _ => Err(self.fault_at(link.span, format!("{}'s {name} is not a range", link.name))),
+        }
+    }
+
+    /// `lo.Resize(range)` ("ListObject.Resize method": "No cells are inserted or moved"; "The
+    /// header must remain in the same row and the resulting list must overlap the original
+    /// list"): the table takes the range, columns it gains named from their header cells.
+    fn resize_list_object(&self, ctx: &mut Ctx, t: &TableShape, link: &Link) -> Run<Obj> {
+        let Some((sheet, rect)) = self.range_argument(ctx, link, 0, "range")? else {
+            return Err(self.fault_at(link.span, "ListObject.Resize takes the table's new range"));
+        };
+        let overlaps = rect.first.row <= t.rect.last.row
+            && t.rect.first.row <= rect.last.row
+            && rect.first.col <= t.rect.last.col
+            && t.rect.first.col <= rect.last.col;
+        let why = if sheet != t.sheet {
+            Some("the range is on another sheet")
+        } else if t.header_rows > 0 && rect.first.row != t.rect.first.row {
+            Some("the header must remain in the same row")
+        } else if !overlaps {
+            Some("the new range must overlap the table")
+        } else if rect.rows() <= t.header_rows + t.totals_rows {
+            Some("the table must keep a row of data")
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(self.error_1004(link.span, format!("Resize method of ListObject class failed: {why}")));
+        }
+        self.book_mut()?.set_table_rect(t.id, rect);
+        Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `lo.Unlist` (the cells stay, a plain range: "ListObject.Unlist method") or `lo.Delete`
+    /// (the cells emptied too: "Deletes the ListObject object and clears the cell data").
+    fn remove_list_object(&self, t: &TableShape, clear: bool) -> Run<Obj> {
+        if clear {
+            self.write_range(t.sheet, t.rect, &Value::Blank)?;
+        }
+        self.book_mut()?.remove_table(t.id);
+        Ok(Obj::Value(Value::Blank))
+    }
+
+    /// `ws.ListObjects.Add(SourceType, Source, LinkSource, XlListObjectHasHeaders,
+    /// Destination, TableStyleName)` ("ListObjects.Add method") over a range of the sheet:
+    /// with headers (xlYes, or xlGuess finding a first row of texts) the first row's cells are
+    /// made the column names, as text, a repeated one numbered ("an incrementing Integer is
+    /// appended"), an empty one `Column1`…; without (xlNo) a header row of `Column1`,
+    /// `Column2`… is inserted above the data, the cells below moving down. The table is
+    /// named `Table1`, `Table2`… the first unused.
+    fn add_list_object(&self, ctx: &mut Ctx, sheet: SheetId, link: &Link) -> Run<Obj> {
+        let number = |ctx: &mut Ctx, at: usize, name: &str, default: f64| -> Run<f64> {
+            let Some(expr) = argument(link, at, name) else { return Ok(default) };
+            let v = ctx.eval(expr).unwrap_single();
+            self.take_pending()?;
+            self.number_of(&v, name).map_err(|m| self.fault_at(link.span, m))
+        };
+        // XlListObjectSourceType: xlSrcRange is 1.
+        if number(ctx, 0, "sourcetype", 1.0)? != 1.0 {
+            let why = "ListObjects.Add: only a range of the workbook (xlSrcRange) is a table's source here";
+            return Err(self.unsupported(link.span, why));
+        }
+        if argument(link, 2, "linksource").is_some() {
+            return Err(self.error_1004(link.span, "ListObjects.Add: LinkSource is for an external source".into()));
+        }
+        let Some((source_sheet, source)) = self.range_argument(ctx, link, 1, "source")? else {
+            let why = "ListObjects.Add: name the table's range as Source (Excel's guess of the list around the \
+                       active cell is not made here)";
+            return Err(self.unsupported(link.span, why));
+        };
+        if source_sheet != sheet {
+            return Err(self.error_1004(link.span, "ListObjects.Add: the Source is on another sheet".into()));
+        }
+        // XlYesNoGuess: xlGuess 0, xlYes 1, xlNo 2.
+        let headers = match number(ctx, 3, "xllistobjecthasheaders", 0.0)? as i64 {
+            1 => true,
+            2 => false,
+            _ => self.first_row_is_text(ctx, sheet, source),
+        };
+        let style = match argument(link, 5, "tablestylename") {
+            Some(expr) => {
+                let v = ctx.eval(expr).unwrap_single();
+                self.take_pending()?;
+                print_text(&v)
+            }
+            None => "TableStyleMedium2".to_string(),
+        };
+        let rect = if headers { source } else { self.insert_header_row(ctx, sheet, source, link)? };
+        // A table holds a data row at least: a header alone takes the row below.
+        let rect = match rect.rows() {
+            1 => Rect::new(rect.first, Pos::new(rect.first.row + 1, rect.last.col)),
+            _ => rect,
+        };
+        let columns = self.header_names(ctx, sheet, rect, headers)?;
+        let name = self.wb.borrow().unused_table_name();
+        let table = TableShape {
+            name,
+            sheet,
+            rect,
+            header_rows: 1,
+            totals_rows: 0,
+            columns,
+            style: (!style.is_empty()).then_some(style),
+            id: 0,
+        };
+        let added = self.book_mut()?.add_table(table);
+        let id = added.map_err(|e| self.error_1004(link.span, format!("ListObjects.Add: {}", one_line(&e))))?;
+        Ok(Obj::Table(TableObj::Table(id)))
+    }
+
+    /// xlGuess: the first row holds headers when its cells are all texts and the source has
+    /// more rows.
+    fn first_row_is_text(&self, ctx: &mut Ctx, sheet: SheetId, source: Rect) -> bool {
+        let first = Rect::new(source.first, Pos::new(source.first.row, source.last.col));
+        let texts = match ctx.rect_value(sheet, first) {
+            Value::Array(a) => a.data.iter().all(|v| matches!(v, Value::Text(t) if !t.is_empty())),
+            v => matches!(v, Value::Text(t) if !t.is_empty()),
+        };
+        texts && source.rows() > 1
+    }
+
+    /// xlNo: cells inserted over the source's first row, the source moving down; the table's
+    /// rectangle is the inserted row and the moved data.
+    fn insert_header_row(&self, ctx: &mut Ctx, sheet: SheetId, source: Rect, link: &Link) -> Run<Rect> {
+        let row = Rect::new(source.first, Pos::new(source.first.row, source.last.col));
+        let shift = Link { name: "Insert".into(), args: None, span: link.span };
+        self.insert_or_delete(ctx, sheet, row, true, &shift)?;
+        Ok(Rect::new(source.first, Pos::new(source.last.row + 1, source.last.col)))
+    }
+
+    /// The column names of a new table's header row, written back into its cells as text.
+    fn header_names(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, from_cells: bool) -> Run<Vec<String>> {
+        let mut names: Vec<String> = Vec::new();
+        for col in rect.first.col..=rect.last.col {
+            let at = Pos::new(rect.first.row, col);
+            let text = if from_cells { print_text(&ctx.rect_value(sheet, Rect::cell(at))) } else { String::new() };
+            let name = crate::workbook::Workbook::table_column_name(&names, text.trim_end());
+            let cell = Rect::cell(at);
+            if ctx.rect_value(sheet, cell) != Value::text(name.as_str()) {
+                self.write_range(sheet, cell, &Value::text(name.as_str()))?;
+            }
+            names.push(name);
+        }
+        Ok(names)
+    }
+
+    /// `lo.Name = "Parts"`, `lo.TableStyle = "TableStyleLight9"` ("ListObject.Name property",
+    /// "ListObject.TableStyle property"); a table name Excel would refuse is error 1004.
+    pub(super) fn set_table_member(&self, obj: &TableObj, link: &Link, value: &crate::formula::ast::Expr) -> Run<()> {
+        let TableObj::Table(id) = obj else {
+            return Err(self.fault_at(link.span, format!("cannot assign to {}.{}", obj.class(), link.name)));
+        };
+        let t = self.table_shape(*id, link.span)?;
+        let text = print_text(&self.eval(value)?);
+        match lower(link).as_str() {
+            "name" | "displayname" => self.book_mut()?.rename_table(t.id, &text).map_err(|e| {
+                self.error_1004(link.span, format!("Name property of ListObject class: {}", one_line(&e)))
+            }),
+            "tablestyle" => {
+                self.book_mut()?.set_table_style(t.id, &text);
+                Ok(())
+            }
+            _ => Err(self.fault_at(link.span, format!("cannot assign to ListObject.{}", link.name))),
+        }
     }
 
     fn is_empty_rect(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect) -> bool {
@@ -292,19 +483,17 @@ impl Interp<'_, '_> {
     /// For Each over ListObjects, ListColumns or ListRows; `None` for another object.
     pub(super) fn tables_each(&self, obj: &TableObj, span: Span) -> Run<Option<Vec<Var>>> {
         let items = match obj {
-            TableObj::List(sheet) => self
-                .sheet_tables(*sheet)
-                .into_iter()
-                .map(|t| Var::Obj(Obj::Table(TableObj::Table(t.name.as_str().into()))))
-                .collect(),
+            TableObj::List(sheet) => {
+                self.sheet_tables(*sheet).into_iter().map(|t| Var::Obj(Obj::Table(TableObj::Table(t.id)))).collect()
+            }
             TableObj::Columns(table) => {
-                let count = self.table_shape(table, span)?.columns.len() as u32;
-                (0..count).map(|c| Var::Obj(Obj::Table(TableObj::Column(table.clone(), c)))).collect()
+                let count = self.table_shape(*table, span)?.columns.len() as u32;
+                (0..count).map(|c| Var::Obj(Obj::Table(TableObj::Column(*table, c)))).collect()
             }
             TableObj::Rows(table) => {
-                let t = self.table_shape(table, span)?;
+                let t = self.table_shape(*table, span)?;
                 let count = data_rows(&t).map_or(0, |(a, b)| b - a + 1);
-                (0..count).map(|r| Var::Obj(Obj::Table(TableObj::Row(table.clone(), r)))).collect()
+                (0..count).map(|r| Var::Obj(Obj::Table(TableObj::Row(*table, r)))).collect()
             }
             _ => return Ok(None),
         };

@@ -1002,6 +1002,10 @@ impl Interp<'_, '_> {
                 self.rename_sheet(*sheet, &v, link.span)
             }
             (Obj::Hyperlink(sheet, id), _) => self.set_hyperlink_member(*sheet, *id, link, value),
+            // A ListObject's Name and TableStyle; a ListRow's `lr.Range(1) = v` writes the cell.
+            (Obj::Table(table @ super::list_objects::TableObj::Table(_)), "name" | "displayname" | "tablestyle") => {
+                self.set_table_member(table, link, value)
+            }
             (Obj::Record(var, path), _) => {
                 let mut path = path.clone();
                 path.push(self.field_index(var, &path, link)?);

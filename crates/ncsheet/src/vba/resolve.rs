@@ -278,6 +278,12 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlshifttoleft" => number(-4159.0),
         "xlshiftdown" => number(-4121.0),
         "xlshifttoright" => number(-4161.0),
+        // "XlListObjectSourceType enumeration", for ListObjects.Add.
+        "xlsrcexternal" => number(0.0),
+        "xlsrcrange" => number(1.0),
+        "xlsrcxml" => number(2.0),
+        "xlsrcquery" => number(3.0),
+        "xlsrcmodel" => number(4.0),
         "xlpasteall" => number(-4104.0),
         "xlpasteformulas" => number(-4123.0),
         "xlpastevalues" => number(-4163.0),

@@ -29,6 +29,7 @@ mod recalc;
 mod shared;
 mod sheet;
 mod shift;
+mod tables;
 mod tabs;
 mod typed;
 mod udf;
@@ -239,8 +240,10 @@ pub struct Workbook {
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
     user_functions: Option<Rc<dyn UserFunctions>>,
-    /// The tables of the file it was read from, which structured references name.
+    /// The reader of structured references the file's format installed (`Table1[Qty]`).
     tables: Option<Rc<dyn StructuredReferences>>,
+    /// The tables (ListObjects) of the workbook, in its file's order (`tables.rs`).
+    table_list: Vec<TableShape>,
     /// The pivot tables of the file it was read from, which GETPIVOTDATA reads.
     pivot_tables: Option<Rc<dyn PivotTables>>,
     /// The clock and random sequence this workbook's formulas read (its own, never a thread's).
@@ -265,6 +268,8 @@ struct ChangeLog {
     sheets: bool,
     /// Cells were inserted or deleted ([`Workbook::shift_cells`]).
     shifted: bool,
+    /// A table was added, deleted, moved or resized (`tables.rs`).
+    tables: bool,
 }
 
 /// Cells edited since [`Workbook::start_journal`], each with the input it held before.
@@ -326,6 +331,8 @@ pub struct Changes {
     /// Rows, columns or cells were inserted or deleted: whatever the file keeps by position
     /// (styles, widths, heights, hidden rows) has to move with them.
     pub shifted: bool,
+    /// A table was added, deleted, moved or resized: a saved file writes its tables anew.
+    pub tables: bool,
     /// Cells that held a formula before their edit and now hold a constant.
     pub formulas_replaced: Vec<(SheetId, Pos)>,
 }
@@ -749,6 +756,7 @@ impl Workbook {
             names: log.names,
             sheets: log.sheets,
             shifted: log.shifted,
+            tables: log.tables,
             formulas_replaced,
         })
     }
@@ -1433,15 +1441,6 @@ pub trait StructuredReferences {
     /// `text` with its structured references replaced by the ranges they name (A1 text
     /// with the sheet), for a formula at `pos` of `sheet`; `None` when it names no table.
     fn resolve(&self, wb: &Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String>;
-
-    /// The tables, in the file's order, for a macro's `ListObjects`.
-    fn shapes(&self) -> Vec<TableShape> {
-        Vec::new()
-    }
-
-    /// Gives the table named `name` the rectangle `rect` (a macro added a row to it):
-    /// structured references made afterwards name the new rows.
-    fn set_rect(&self, _name: &str, _rect: Rect) {}
 }
 
 /// A table of the workbook ("ListObject object"): its name, sheet, whole rectangle (header
@@ -1454,24 +1453,20 @@ pub struct TableShape {
     pub header_rows: u32,
     pub totals_rows: u32,
     pub columns: Vec<String>,
+    /// Its look (`TableStyleMedium9`), kept when the file is written anew.
+    pub style: Option<String>,
+    /// The workbook's number for it, which a macro's objects hold (its name may change).
+    pub id: u32,
 }
 
 impl Workbook {
-    /// Installs the tables structured references made at run time name.
-    pub fn set_tables(&mut self, tables: Rc<dyn StructuredReferences>) {
-        self.tables = Some(tables);
-    }
-
-    /// The workbook's tables, in its file's order (none when it was not read from a file
-    /// that holds tables).
-    pub fn table_shapes(&self) -> Vec<TableShape> {
-        self.tables.as_ref().map(|t| t.shapes()).unwrap_or_default()
-    }
-
-    /// Gives the table `name` the rectangle `rect` ([`StructuredReferences::set_rect`]).
-    pub fn set_table_rect(&self, name: &str, rect: Rect) {
-        if let Some(tables) = &self.tables {
-            tables.set_rect(name, rect);
+    /// Installs the file's tables and the reader of the structured references that name
+    /// them in text made at run time (INDIRECT's).
+    pub fn set_tables(&mut self, reader: Rc<dyn StructuredReferences>, tables: Vec<TableShape>) {
+        self.tables = Some(reader);
+        self.table_list = tables;
+        for (n, t) in self.table_list.iter_mut().enumerate() {
+            t.id = n as u32 + 1;
         }
     }
 }

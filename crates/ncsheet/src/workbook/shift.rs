@@ -89,12 +89,12 @@ impl SheetEdit {
     }
 
     /// Whether what spans `across` (inclusive) lies wholly in the moving band.
-    fn covers(&self, across: (u32, u32)) -> bool {
+    pub(super) fn covers(&self, across: (u32, u32)) -> bool {
         self.band.is_none_or(|(b1, b2)| b1 <= across.0 && across.1 <= b2)
     }
 
     /// Whether `across` meets the moving band.
-    fn meets(&self, across: (u32, u32)) -> bool {
+    pub(super) fn meets(&self, across: (u32, u32)) -> bool {
         self.band.is_none_or(|(b1, b2)| across.0 <= b2 && b1 <= across.1)
     }
 
@@ -226,6 +226,7 @@ impl Workbook {
             return Err(WorkbookError::CannotShift("the rows or columns are off the sheet".into()));
         }
         self.check_arrays_whole(sheet, &edit)?;
+        self.check_tables_whole(sheet, &edit)?;
         let mut moves = self.moves(sheet, &edit)?;
         let idle = self.idle_cells(sheet, &edit);
         let free = self.free_slots(&moves);
@@ -274,6 +275,7 @@ impl Workbook {
             touched.extend(self.sheets[s as usize].get(to));
         }
         let names_moved = self.follow_names(sheet, &edit);
+        self.follow_tables(sheet, &edit);
         self.shift_lines(sheet, &edit);
         if let Some(log) = self.changes.as_mut() {
             log.names |= names_moved;

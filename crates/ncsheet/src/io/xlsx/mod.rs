@@ -39,6 +39,7 @@ mod external;
 pub(crate) mod opc;
 mod patch;
 mod patch_styles;
+mod patch_tables;
 mod pivot;
 mod raw;
 mod read;
@@ -47,6 +48,7 @@ mod sheet_xml;
 mod syntax;
 mod tables;
 mod write;
+mod write_tables;
 pub(crate) mod xml;
 
 pub use check::{compare_cached, values_agree, Difference, REL_TOLERANCE};

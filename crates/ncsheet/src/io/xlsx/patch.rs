@@ -23,6 +23,7 @@ use crate::formula::ast::SheetId;
 use crate::workbook::{Changes, Workbook};
 
 use super::patch_styles::{column_changes, with_height, with_hidden, with_widths, Restyle, StyleSheet};
+use super::patch_tables::{changed_table_parts, with_table_ranges, TableParts};
 use super::raw::{zip_error, Package};
 use super::syntax;
 use super::{ErrorKind, Layout, XlsxError};
@@ -111,11 +112,18 @@ pub fn patch(
     let states_changed =
         package.sheets.iter().any(|e| wb.sheet_id(&e.name).is_some_and(|id| wb.sheet_visibility(id) != e.visibility));
     let active_moved = moved_active_tab(&package, wb);
-    let changed = !by_part.is_empty() || states_changed || active_moved.is_some();
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| {
         let (p, k, m) = zip_error(None, e);
         fail(p.as_deref(), k, m)
     })?;
+    let table_parts = match changes.tables {
+        false => TableParts::new(),
+        true => match changed_table_parts(&mut zip, wb).map_err(|m| fail(None, ErrorKind::Damaged, m))? {
+            Ok(parts) => parts,
+            Err(why) => return Ok(Err(why)),
+        },
+    };
+    let changed = !by_part.is_empty() || states_changed || active_moved.is_some() || !table_parts.is_empty();
     let calc_chain = (0..zip.len()).find_map(|i| {
         let name = zip.name_for_index(i)?.ok()?;
         name.eq_ignore_ascii_case("xl/calcChain.xml").then(|| name.to_string())
@@ -167,6 +175,9 @@ pub fn patch(
             let patched = patch_sheet(&xml, (wb, *sheet), cells, looks, &mut losses)
                 .map_err(|m| fail(Some(&name), ErrorKind::Unwritable, m))?;
             Some(with_selected_tab(patched, &name, &package, active_moved))
+        } else if let Some(table) = table_parts.get(&name) {
+            let xml = read_text(&mut entry, &name, &source.file)?;
+            Some(with_table_ranges(&xml, table))
         } else if name == workbook_part {
             let xml = read_text(&mut entry, &name, &source.file)?;
             let xml = with_sheet_states(&full_calc_on_load(&xml), &package, wb);
@@ -343,7 +354,7 @@ fn with_selected_tab(xml: String, part: &str, package: &Package, moved: Option<(
 
 /// A start tag (without its `>`) with attribute `name` set to `value`, or removed for `None`;
 /// an empty element keeps its closing `/`.
-fn with_attr(tag: &str, name: &str, value: Option<&str>) -> String {
+pub(super) fn with_attr(tag: &str, name: &str, value: Option<&str>) -> String {
     let kept = remove_attr(tag, name);
     let (head, close) = kept.strip_suffix('/').map_or((kept.as_str(), ""), |h| (h, "/"));
     match value {

@@ -151,7 +151,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     pivot::install(&mut imported.workbook, pivots);
     imported.layout.tables = tables.clone();
     if !tables.is_empty() {
-        imported.workbook.set_tables(std::rc::Rc::new(tables::FileTables(tables.clone().into())));
+        imported.workbook.set_tables(std::rc::Rc::new(tables::FileTables), tables.clone());
     }
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);

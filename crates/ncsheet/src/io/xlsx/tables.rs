@@ -23,6 +23,7 @@ pub use crate::workbook::TableShape as Table;
 pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
     let mut table = None;
     let mut columns = Vec::new();
+    let mut style = None;
     for_each_tag(xml, &mut |tag, _| match tag.name {
         b"table" => {
             let number = |key: &str, default: u32| tag.parsed(key).unwrap_or(default);
@@ -30,14 +31,25 @@ pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
             let rect = tag.attr("ref").and_then(|r| parse_rect(&unescape(r)));
             if let Some(rect) = rect {
                 let (header_rows, totals_rows) = (number("headerRowCount", 1), number("totalsRowCount", 0));
-                table = Some(Table { name, sheet, rect, header_rows, totals_rows, columns: Vec::new() });
+                table = Some(Table {
+                    name,
+                    sheet,
+                    rect,
+                    header_rows,
+                    totals_rows,
+                    columns: Vec::new(),
+                    style: None,
+                    id: 0,
+                });
             }
         }
         b"tableColumn" => columns.push(tag.attr("name").map(unescape).unwrap_or_default()),
+        b"tableStyleInfo" => style = tag.attr("name").map(unescape),
         _ => {}
     });
     let mut table = table?;
     table.columns = columns;
+    table.style = style;
     (!table.name.is_empty()).then_some(table)
 }
 
@@ -122,27 +134,18 @@ pub fn resolve_structured<'t>(
     Cow::Owned(out)
 }
 
-/// The file's tables, installed in the workbook so that INDIRECT reads the structured
-/// references of its text (`INDIRECT("Table1[Qty]")`) as a formula read at load does.
-/// A macro may add rows to a table (`ListRows.Add`), hence the cell.
-pub struct FileTables(pub std::cell::RefCell<Vec<Table>>);
+/// The reader of structured references installed in a workbook read from xlsx, so that
+/// INDIRECT reads the structured references of its text (`INDIRECT("Table1[Qty]")`) as a
+/// formula read at load does, over the workbook's tables as they are then (a macro may have
+/// added rows to one).
+pub struct FileTables;
 
 impl crate::workbook::StructuredReferences for FileTables {
     fn resolve(&self, wb: &crate::workbook::Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
         let name = |s: SheetId| crate::eval::Env::sheet_name(wb, s).unwrap_or_default();
-        match resolve_structured(text, &self.0.borrow(), sheet, pos, &name) {
+        match resolve_structured(text, wb.table_list(), sheet, pos, &name) {
             Cow::Owned(resolved) => Some(resolved),
             Cow::Borrowed(_) => None,
-        }
-    }
-
-    fn shapes(&self) -> Vec<Table> {
-        self.0.borrow().clone()
-    }
-
-    fn set_rect(&self, name: &str, rect: Rect) {
-        if let Some(table) = self.0.borrow_mut().iter_mut().find(|t| t.name.eq_ignore_ascii_case(name)) {
-            table.rect = rect;
         }
     }
 }
@@ -360,6 +363,8 @@ mod tests {
             header_rows: 1,
             totals_rows: 1,
             columns: vec!["Item".into(), "Qty".into(), "Unit Price".into()],
+            style: None,
+            id: 0,
         }
     }
 

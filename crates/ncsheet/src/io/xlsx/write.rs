@@ -147,7 +147,10 @@ fn build(wb: &Workbook, layout: &Layout, file: &Path, macros: bool) -> Result<Ve
                 }
             }
         }
+        // Before the cells, which keep their looks over the headers rust_xlsxwriter writes.
+        super::write_tables::add_tables(ws, wb, sheet).map_err(|(place, e)| fail(Some(&place), e))?;
         for (pos, value) in wb.values(sheet) {
+            let value = super::write_tables::header_value(wb, sheet, pos, value);
             let code = sheet_layout.and_then(|l| l.look.number_formats.get(&pos)).map(String::as_str);
             let style = sheet_layout.and_then(|l| l.look.cell_styles.get(&pos)).copied().unwrap_or_default();
             let format = (code.is_some() || !style.is_plain())

@@ -1,0 +1,65 @@
+//! The tables of a workbook written anew ([`super::write`]): each is added through
+//! rust_xlsxwriter's `Worksheet::add_table` before the sheet's cells, with its name, range,
+//! header and totals rows, column names and style, so a package written anew (after rows
+//! were inserted, or from a workbook a macro gave a new table) keeps them. The cells then
+//! written over the table keep their values and looks; a header cell is written as the
+//! text of its column's name, as Excel stores it.
+
+use rust_xlsxwriter::{Table, TableColumn, TableStyle, Worksheet, XlsxError};
+
+use crate::eval::Value;
+use crate::formula::address::Pos;
+use crate::formula::ast::SheetId;
+use crate::workbook::{TableShape, Workbook};
+
+/// Adds the tables of `sheet` to `ws`.
+pub fn add_tables(ws: &mut Worksheet, wb: &Workbook, sheet: SheetId) -> Result<(), (String, XlsxError)> {
+    for t in wb.table_list().iter().filter(|t| t.sheet == sheet) {
+        let columns: Vec<TableColumn> = t.columns.iter().map(|c| TableColumn::new().set_header(c)).collect();
+        let mut table = Table::new()
+            .set_name(&t.name)
+            .set_header_row(t.header_rows > 0)
+            .set_autofilter(t.header_rows > 0)
+            .set_total_row(t.totals_rows > 0)
+            .set_columns(&columns);
+        if let Some(style) = t.style.as_deref().and_then(table_style) {
+            table = table.set_style(style);
+        }
+        let (first, last) = (t.rect.first, t.rect.last);
+        ws.add_table(first.row, first.col as u16, last.row, last.col as u16, &table)
+            .map_err(|e| (format!("table {}", t.name), e))?;
+    }
+    Ok(())
+}
+
+/// The value to write in cell `pos` of `sheet`: a table's header cell holds its column's
+/// name as text (Excel warns of a file whose header cell differs from the name).
+pub fn header_value(wb: &Workbook, sheet: SheetId, pos: Pos, value: Value) -> Value {
+    let header = wb
+        .table_list()
+        .iter()
+        .find(|t| t.sheet == sheet && t.header_rows > 0 && pos.row == t.rect.first.row && t.rect.contains(pos));
+    match header.and_then(|t| column_name(t, pos)) {
+        Some(name) => Value::text(name),
+        None => value,
+    }
+}
+
+fn column_name(t: &TableShape, pos: Pos) -> Option<&str> {
+    t.columns.get((pos.col - t.rect.first.col) as usize).map(String::as_str)
+}
+
+/// rust_xlsxwriter's style of the name a file gives (`TableStyleMedium9`); `None` for a
+/// custom style of the file's own, which a package written anew does not have (Excel's
+/// default look then).
+fn table_style(name: &str) -> Option<TableStyle> {
+    use TableStyle::*;
+    const STYLES: [TableStyle; 61] = [
+        None, Light1, Light2, Light3, Light4, Light5, Light6, Light7, Light8, Light9, Light10, Light11, Light12,
+        Light13, Light14, Light15, Light16, Light17, Light18, Light19, Light20, Light21, Medium1, Medium2, Medium3,
+        Medium4, Medium5, Medium6, Medium7, Medium8, Medium9, Medium10, Medium11, Medium12, Medium13, Medium14,
+        Medium15, Medium16, Medium17, Medium18, Medium19, Medium20, Medium21, Medium22, Medium23, Medium24, Medium25,
+        Medium26, Medium27, Medium28, Dark1, Dark2, Dark3, Dark4, Dark5, Dark6, Dark7, Dark8, Dark9, Dark10, Dark11,
+    ];
+    STYLES.into_iter().find(|s| s.to_string().eq_ignore_ascii_case(name))
+}
