@@ -172,6 +172,19 @@ fn an_error_inside_the_function_is_a_value_error_and_changes_no_cell() {
     assert_eq!(number(&wb, "C1"), 7.0);
 }
 
+/// "Description of limitations of custom functions in Excel" (KB 170787): a function called
+/// from a cell "cannot change another cell's value"; Excel ends it at that statement, its cell
+/// #VALUE!, and its On Error Resume Next does not carry it past to return a number as if the
+/// cell had been written.
+#[test]
+fn a_function_writing_a_cell_under_on_error_is_a_value_error() {
+    let source = "Function Writes(x)\r\n    On Error Resume Next\r\n    Range(\"C1\").Value = 99\r\n    \
+        Writes = x\r\nEnd Function\r\n";
+    let wb = book(&[("Module1", STANDARD, source)], &[("B1", "=Writes(1)"), ("C1", "7")]);
+    assert_eq!(wb.value(0, at("B1")), Value::Error(XlError::Value));
+    assert_eq!(number(&wb, "C1"), 7.0);
+}
+
 /// An array result spills, as Excel's dynamic arrays do: `Array(1, 2, 3)` over three columns.
 #[test]
 fn an_array_result_spills() {

@@ -233,6 +233,33 @@ fn a_write_to_a_whole_sheet_is_refused_not_attempted() {
     assert_eq!(e.message, "writing 17179869184 cells at once is more than a macro may (10000000)");
 }
 
+/// ncsheet's limits on what one statement may do (docs/limits.md: MAX_WRITE, MAX_FORMULA_WRITE,
+/// MAX_PASTE, MAX_FORMATTED_CELLS, MAX_HIDDEN_ROWS) stop the run whatever On Error says, as the
+/// statement limit does: a trapped one let the macro go on as if the cells had been written.
+/// Two cells make the used range A1:Z500000 (13,000,000 cells) for the paste to clip to.
+#[test]
+fn on_error_does_not_skip_a_limit_on_what_one_statement_does() {
+    let statements = [
+        "Range(\"A1:XFD1048576\").Value = 1",
+        "Range(\"A1:Z500000\").Formula = \"=1\"",
+        "Range(\"A1:Z500000\").Copy Range(\"AA1\")",
+        "Range(\"A1:Z500000\").Interior.Color = 255",
+        "Rows(\"1:200000\").Hidden = True",
+    ];
+    for statement in statements {
+        for trap in ["On Error Resume Next", "On Error GoTo Handler"] {
+            let e = fail(&main_body(&format!(
+                "    {trap}\n    Range(\"A1\").Value = 1\n    Range(\"Z500000\").Value = 2\n    {statement}\n    \
+                 Debug.Print \"went on\"\n    Exit Sub\nHandler:\n    Debug.Print \"handled\""
+            )));
+            assert_eq!(e.kind, ErrorKind::Limit, "{statement}: {e}");
+            assert!(e.message.contains("more than a macro may"), "{statement}: {e}");
+            assert_eq!(e.span.map(|s| s.line), Some(5), "{statement}: {e}");
+            assert!(e.output.printed.is_empty(), "{statement}: {:?}", e.output.printed);
+        }
+    }
+}
+
 #[test]
 fn vb_object_error_is_the_base_of_an_objects_own_error_numbers() {
     // Microsoft's "Raise method": "For user-defined errors, add your error number to the

@@ -381,6 +381,26 @@ fn text_windows_1252_cannot_hold_is_refused_not_replaced() {
     assert_eq!(out.files, vec![("e.txt".to_string(), b"\x80\r\n".to_vec())]);
 }
 
+// VBA writes a character its ANSI code page lacks as "?" (a lossy conversion ncsheet refuses):
+// the refusal is ncsheet's, so no On Error skips it and lets the macro go on with the text
+// missing from its file (a record too long for Len is VBA's error 59, which it traps: above).
+#[test]
+fn on_error_does_not_skip_text_windows_1252_cannot_hold() {
+    for (open, write) in
+        [("Output", "Print #1, ChrW(1046)"), ("Binary", "Put #1, , ChrW(1046)"), ("Random", "Put #1, 1, ChrW(1046)")]
+    {
+        let e = fail(
+            &format!(
+                "    On Error Resume Next\n    Open \"u.bin\" For {open} As #1\n    {write}\n    \
+                 Debug.Print \"went on\""
+            ),
+            &sandbox(&[]),
+        );
+        assert!(e.message.contains("U+0416"), "{write}: {e}");
+        assert_eq!(e.span.map(|s| s.line), Some(4), "{write}: {e}");
+    }
+}
+
 // ---- the sandbox, through `ncsheet run` ---------------------------------------------------
 
 fn write(dir: &Path, name: &str, text: &str) -> String {

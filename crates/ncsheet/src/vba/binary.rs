@@ -148,9 +148,12 @@ impl Interp<'_, '_> {
                 };
                 self.composite_bytes(&whole, ty.as_ref(), random, false, fixed)
             }
-            Var::Obj(_) => Err("an object is not written to a file (Put # writes values)".to_string()),
+            Var::Obj(_) => Err(Unput::Ours("an object is not written to a file (Put # writes values)".into())),
         };
-        let bytes = bytes.map_err(|m| self.fault_at(span, format!("Put #{n}: {m}")))?;
+        let bytes = bytes.map_err(|why| match why {
+            Unput::Vba(m) => self.fault_at(span, format!("Put #{n}: {m}")),
+            Unput::Ours(m) => self.unsupported(span, format!("Put #{n}: {m}")),
+        })?;
         self.charge(bytes.len() as u64, span)?;
         let mut files = self.files.borrow_mut();
         let super::files::Files { records, written, .. } = &mut *files;
@@ -305,7 +308,7 @@ impl Interp<'_, '_> {
         random: bool,
         member: bool,
         fixed: bool,
-    ) -> Result<Vec<u8>, String> {
+    ) -> Result<Vec<u8>, Unput> {
         match var {
             Var::Value(v) => match Declared::of_ty(ty) {
                 // A fixed-length String field is its characters alone ("Put statement").
@@ -321,7 +324,7 @@ impl Interp<'_, '_> {
                 Ok(out)
             }
             Var::Array(a) => {
-                whole_array_layout(a, random && !fixed)?;
+                whole_array_layout(a, random && !fixed).map_err(Unput::Ours)?;
                 let mut out = Vec::new();
                 for k in file_order(a) {
                     let item = a.item(k);
@@ -334,7 +337,7 @@ impl Interp<'_, '_> {
                 }
                 Ok(out)
             }
-            Var::Obj(_) => Err("an object is not written to a file (Put # writes values)".to_string()),
+            Var::Obj(_) => Err(Unput::Ours("an object is not written to a file (Put # writes values)".into())),
         }
     }
 
@@ -448,9 +451,24 @@ fn whole_array_layout(a: &super::value::VArray, random: bool) -> Result<(), Stri
     Ok(())
 }
 
+/// Why `Put` wrote nothing: VBA's own error (a type mismatch, an overflow), which `On Error`
+/// traps, or ncsheet's refusal of what VBA would write (a character outside Windows-1252, a
+/// layout VBA's reference does not give), which it does not: a trapped one left the file
+/// without the record and the macro going on as if it were there.
+enum Unput {
+    Vba(String),
+    Ours(String),
+}
+
+impl From<String> for Unput {
+    fn from(m: String) -> Self {
+        Unput::Vba(m)
+    }
+}
+
 /// The bytes `Put` writes for `v` of the declared type `declared`: a Variant's with its
 /// VarType first; `date`: the value is a Date (a Variant's VarType 7).
-fn put_bytes(declared: Declared, v: &Value, date: bool, random: bool) -> Result<Vec<u8>, String> {
+fn put_bytes(declared: Declared, v: &Value, date: bool, random: bool) -> Result<Vec<u8>, Unput> {
     let number = || to_number(v, DateSystem::From1900).map_err(|e| format!("{e} is not a number (type mismatch)"));
     let whole = |low: f64, high: f64, ty: &str| -> Result<i64, String> {
         let n = number()?.round_ties_even();
@@ -472,7 +490,7 @@ fn put_bytes(declared: Declared, v: &Value, date: bool, random: bool) -> Result<
         Declared::Single => (number()? as f32).to_le_bytes().to_vec(),
         Declared::Double | Declared::Date => number()?.to_le_bytes().to_vec(),
         Declared::Currency => ((number()? * 10000.0).round() as i64).to_le_bytes().to_vec(),
-        Declared::Decimal => return Err("a Decimal is not written here".into()),
+        Declared::Decimal => return Err(Unput::Ours("a Decimal is not written here".into())),
         Declared::String => string_bytes(v, random)?,
         Declared::Variant => variant_bytes(v, date)?,
     })
@@ -480,24 +498,24 @@ fn put_bytes(declared: Declared, v: &Value, date: bool, random: bool) -> Result<
 
 /// A Variant holding a number of the type `held`: its VarType in 2 bytes, then the number
 /// as that type's bytes.
-fn held_variant_bytes(held: Declared, v: &Value) -> Result<Vec<u8>, String> {
+fn held_variant_bytes(held: Declared, v: &Value) -> Result<Vec<u8>, Unput> {
     let var_type = held.var_type().expect("a numeric type has a VarType") as u16;
     Ok([var_type.to_le_bytes().to_vec(), put_bytes(held, v, false, false)?].concat())
 }
 
 /// A String's bytes in Windows-1252: in a Random file (or a Variant) after its 2-byte length.
-fn string_bytes(v: &Value, counted: bool) -> Result<Vec<u8>, String> {
+fn string_bytes(v: &Value, counted: bool) -> Result<Vec<u8>, Unput> {
     let text = vba_text(v).map_err(|e| format!("{e} is not a text (type mismatch)"))?;
-    let bytes = super::files::ansi_bytes(&text)?;
+    let bytes = super::files::ansi_bytes(&text).map_err(Unput::Ours)?;
     if !counted {
         return Ok(bytes);
     }
-    let len = u16::try_from(bytes.len()).map_err(|_| "a String longer than 65,535 characters".to_string())?;
+    let len = u16::try_from(bytes.len()).map_err(|_| Unput::Ours("a String longer than 65,535 characters".into()))?;
     Ok([len.to_le_bytes().to_vec(), bytes].concat())
 }
 
 /// A Variant's bytes: its VarType in 2 bytes, then its value (a String with its length).
-fn variant_bytes(v: &Value, date: bool) -> Result<Vec<u8>, String> {
+fn variant_bytes(v: &Value, date: bool) -> Result<Vec<u8>, Unput> {
     let (var_type, body): (u16, Vec<u8>) = match v {
         Value::Blank => (0, Vec::new()),
         Value::Null => (1, Vec::new()),
@@ -510,7 +528,7 @@ fn variant_bytes(v: &Value, date: bool) -> Result<Vec<u8>, String> {
             (10, (0x800A_0000u32 + number).to_le_bytes().to_vec())
         }
         Value::Array(_) | Value::Lambda(_) => {
-            return Err("an array in a Variant is not written (Put a typed array's items)".into())
+            return Err(Unput::Ours("an array in a Variant is not written (Put a typed array's items)".into()))
         }
     };
     Ok([var_type.to_le_bytes().to_vec(), body].concat())

@@ -728,7 +728,9 @@ impl Interp<'_, '_> {
             return Ok(());
         }
         if cells > MAX_FORMATTED_CELLS {
-            return Err(self.fault_at(span, format!("formatting {cells} cells one by one is more than a macro may")));
+            return Err(
+                self.beyond_limit(Some(span), format!("formatting {cells} cells one by one is more than a macro may"))
+            );
         }
         for row in rect.first.row..=rect.last.row {
             for col in rect.first.col..=rect.last.col {
@@ -783,7 +785,9 @@ impl Interp<'_, '_> {
             return Err(self.error_1004(span, format!("RowHeight is 0 to 409 points, not {height}")));
         }
         if rect.rows() as u64 > MAX_FORMATTED_CELLS {
-            return Err(self.fault_at(span, "RowHeight: set the height of the rows in use, not of the whole sheet"));
+            return Err(
+                self.beyond_limit(Some(span), "RowHeight: set the height of the rows in use, not of the whole sheet")
+            );
         }
         let mut looks = self.looks.borrow_mut();
         let state = looks.sheet(sheet);
@@ -834,8 +838,8 @@ impl Interp<'_, '_> {
         let (axis, first, last) = self.hidden_lines(rect, span)?;
         if hide && axis == Axis::Rows && last - first >= MAX_HIDDEN_ROWS {
             let rows = last - first + 1;
-            return Err(self.fault_at(
-                span,
+            return Err(self.beyond_limit(
+                Some(span),
                 format!(
                     "Hidden: hiding rows {} to {} ({rows} rows) is more than a macro may (each is kept and \
                      saved on its own; at most {MAX_HIDDEN_ROWS}): hide the rows in use",

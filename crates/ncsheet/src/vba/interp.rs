@@ -560,7 +560,9 @@ impl Interp<'_, '_> {
             Book::Mut(wb) => Some(&mut **wb),
             Book::Read(_) => None,
         })
-        .map_err(|_| self.fault("a function called from a cell cannot change cells (Excel does not let it)"))
+        // Excel ends such a function at that line, #VALUE! in its cell, whatever its `On Error`
+        // says ("Description of limitations of custom functions in Excel", KB 170787).
+        .map_err(|_| self.unsupported_here("a function called from a cell cannot change cells (Excel does not let it)"))
     }
 
     /// Calls Function `proc` from a cell, starting from the module-level state the program's
@@ -3130,7 +3132,8 @@ impl Interp<'_, '_> {
     pub fn write_range(&self, sheet: SheetId, rect: Rect, v: &Value) -> Run<()> {
         let cells = rect.rows() as u64 * rect.cols() as u64;
         if cells > MAX_WRITE {
-            return Err(self.fault(format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
+            return Err(self
+                .beyond_limit(None, format!("writing {cells} cells at once is more than a macro may ({MAX_WRITE})")));
         }
         self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;

@@ -1055,7 +1055,9 @@ impl Interp<'_, '_> {
         }
         let cells = rect.rows() as u64 * rect.cols() as u64;
         if cells > MAX_FORMULA_WRITE {
-            return Err(self.fault(format!("writing {cells} formulas at once is more than a macro may")));
+            return Err(
+                self.beyond_limit(Some(span), format!("writing {cells} formulas at once is more than a macro may"))
+            );
         }
         self.refuse_protected(sheet)?;
         let mut wb = self.book_mut()?;

@@ -378,7 +378,9 @@ impl Interp<'_, '_> {
         };
         let cells = area.rows() as u64 * area.cols() as u64;
         if cells > MAX_PASTE {
-            return Err(self.fault_at(span, format!("pasting {cells} cells at once is more than a macro may")));
+            return Err(
+                self.beyond_limit(Some(span), format!("pasting {cells} cells at once is more than a macro may"))
+            );
         }
         let room = self.room_to_paste((from, source), (to, area), how);
         room.map_err(|e| self.workbook_fault(Some(span), &e))?;

@@ -238,6 +238,29 @@ impl Interp<'_, '_> {
         fault
     }
 
+    /// [`Interp::unsupported`] at the running statement, for a refusal made below the place
+    /// that knows its span.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn unsupported_here(&self, message: impl Into<String>) -> Fault {
+        let mut fault = self.fault(message);
+        fault.code = NOT_MODELLED;
+        fault
+    }
+
+    /// ncsheet's limit on what one statement may do (write, paste, format or hide more cells
+    /// than docs/limits.md allows), at `span` or the running statement: a limit, which no
+    /// `On Error` traps, as the statement and memory limits are; a trapped one let the macro
+    /// go on as if the cells had been written.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn beyond_limit(&self, span: Option<super::ast::Span>, message: impl Into<String>) -> Fault {
+        let mut fault = self.fault(message);
+        fault.span = span.or(fault.span);
+        fault.kind = super::ErrorKind::Limit;
+        fault
+    }
+
     /// The refusal of `obj.Member`: untrappable, naming the member.
     pub(super) fn not_modelled(&self, obj: &Obj, link: &Link) -> Fault {
         self.unsupported(
