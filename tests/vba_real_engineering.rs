@@ -45,6 +45,20 @@ fn an_array_inside_array_keeps_its_bounds() {
     assert_eq!(printed(src), [" 1  3  30 -1 "]);
 }
 
+// [MS-VBAL] 5.6.10 "Simple Name Expressions": a name is looked up in the procedure, then its
+// module, then the project, and only then in the libraries. So a variable the procedure declares
+// is the variable when assigned, whatever library object has its name: Alice Lepissier's Linerp
+// (an interpolation UDF) declares `Dim nR, nC As Integer` and assigns `nC = ….Columns.Count`
+// beside ncsheet's own Nc object; and a macro may name variables Selection, Debug or Err.
+#[test]
+fn a_declared_variable_hides_a_library_object_of_its_name() {
+    let src = "Sub Main()\n    Dim nR, nC As Integer\n    Dim Selection As Long, Debug As String, Err As Double\n\
+               \x20   nR = 2\n    nC = nR + 3\n    Selection = 7\n    Debug = \"d\"\n    Err = 1.5\n\
+               \x20   Call Show(nR, nC, Selection, Debug, Err)\nEnd Sub\n\
+               Sub Show(a, b, c, d, e)\n    Debug.Print a; b; c; d; e\nEnd Sub\n";
+    assert_eq!(printed(src), [" 2  5  7 d 1.5 "]);
+}
+
 /// A macro run with the project's other standard modules (name, source).
 fn printed_with_modules(main: &str, modules: &[(&str, &str)]) -> Vec<String> {
     let project = modules.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();

@@ -1117,7 +1117,12 @@ impl<'s> Build<'s> {
             }
             match &link.args {
                 // `rows = 3` without a Dim is a variable: the sheet's Rows cannot be assigned.
-                None if self.is_object(&lower) && !matches!(lower.as_str(), "rows" | "columns") => {}
+                // A declared variable hides a host object of its name (`Dim nC As Integer` then
+                // `nC = 3` beside the Nc object): [MS-VBAL] 5.6.10 looks a simple name up in the
+                // procedure, then the module, then the project before any library.
+                None if self.is_object(&lower)
+                    && !matches!(lower.as_str(), "rows" | "columns")
+                    && !self.is_var(&link.name) => {}
                 // A variable the procedure or its module declares hides a procedure of that
                 // name ([MS-VBAL] 5.6.10: procedure scope first, then module, then project).
                 None if self.proc_index(&link.name).is_some()
