@@ -74,12 +74,20 @@ fn on_error_does_not_skip_an_argument_or_form_ncsheet_refuses() {
     // Error Resume Next pasted nothing, session 30's r08), so the run stops at the statement:
     // its line and the column of the refused member, whatever On Error says.
     // (the statement, the member the run stops at, a word of the refusal)
-    let cases: [(&str, &str, &str); 5] = [
+    let cases: [(&str, &str, &str); 7] = [
         ("Range(\"A1\").Copy\n    ActiveSheet.Paste Link:=True", "Paste", "Paste Link:=True"),
         ("Set r = Range(\"A1:B2\").SpecialCells(xlCellTypeConstants)", "SpecialCells", "SpecialCells"),
         ("Sheets.Add Type:=xlChart", "Add", "Sheets.Add"),
         ("Range(\"A1\").TextToColumns DataType:=xlFixedWidth", "TextToColumns", "xlFixedWidth"),
         ("x = CDec(\"1234567890.1234567890\")", "x", "CDec"),
+        // "Range.PasteSpecial method": Operation adds the copied values to the destination's,
+        // Transpose:=True turns rows into columns.
+        (
+            "Range(\"A1\").Copy\n    Range(\"C1\").PasteSpecial Paste:=xlPasteValues, Operation:=xlPasteSpecialOperationAdd",
+            "PasteSpecial",
+            "Operation:=2",
+        ),
+        ("Range(\"A1\").Copy\n    Range(\"C1\").PasteSpecial Transpose:=True", "PasteSpecial", "Transpose"),
     ];
     for (statement, member, named) in cases {
         let last = statement.lines().last().unwrap_or_default();
@@ -99,6 +107,63 @@ fn on_error_does_not_skip_an_argument_or_form_ncsheet_refuses() {
     let printed =
         run_main(&mut Workbook::with_sheet(), "    Sheets.Add Type:=xlWorksheet\n    Debug.Print Sheets.Count");
     assert_eq!(printed, [" 2 "]);
+}
+
+/// The constants the macro recorder writes for the members ncsheet runs, each with the number
+/// Microsoft's enumeration page gives: "Constants enumeration" (xlDoubleQuote 1, xlSingleQuote
+/// 2, xlContext -5002, xlLTR -5003, xlRTL -5004), "XlPasteType" (xlPasteAllExceptBorders 7,
+/// xlPasteColumnWidths 8, xlPasteComments -4144, xlPasteFormats -4122,
+/// xlPasteFormulasAndNumberFormats 11, xlPasteValuesAndNumberFormats 12,
+/// xlPasteAllUsingSourceTheme 13, xlPasteAllMergingConditionalFormats 14, xlPasteValidation
+/// 6), "XlPasteSpecialOperation" (None -4142, Add 2, Subtract 3, Multiply 4, Divide 5),
+/// "XlAutoFillType" (xlFillDefault 0 … xlFlashFill 11), "XlInsertFormatOrigin" (0, 1),
+/// "XlPlatform" (xlMacintosh 1, xlWindows 2, xlMSDOS 3), "XlSortOn" (CellColor 1, FontColor 2,
+/// Icon 3), "XlCellType" (AllFormatConditions -4172, SameFormatConditions -4173,
+/// AllValidation -4174, SameValidation -4175), "XlFindLookIn" (xlCommentsThreaded -4184).
+/// Without Option Explicit each was an empty variable, so `TextQualifier:=xlDoubleQuote` was
+/// Empty, the paste's Operation:=xlNone went unread.
+#[test]
+fn the_constants_recorded_macros_write_have_excels_numbers() {
+    let groups: [(&str, &str); 10] = [
+        ("xlDoubleQuote; xlSingleQuote; xlContext; xlLTR; xlRTL", " 1  2 -5002 -5003 -5004 "),
+        (
+            "xlPasteAllExceptBorders; xlPasteColumnWidths; xlPasteComments; xlPasteFormats; \
+             xlPasteFormulasAndNumberFormats; xlPasteValuesAndNumberFormats; xlPasteAllUsingSourceTheme; \
+             xlPasteAllMergingConditionalFormats; xlPasteValidation",
+            " 7  8 -4144 -4122  11  12  13  14  6 ",
+        ),
+        (
+            "xlPasteSpecialOperationNone; xlPasteSpecialOperationAdd; xlPasteSpecialOperationSubtract; \
+             xlPasteSpecialOperationMultiply; xlPasteSpecialOperationDivide",
+            "-4142  2  3  4  5 ",
+        ),
+        (
+            "xlFillDefault; xlFillCopy; xlFillSeries; xlFillFormats; xlFillValues; xlFillDays; xlFillWeekdays",
+            " 0  1  2  3  4  5  6 ",
+        ),
+        ("xlFillMonths; xlFillYears; xlLinearTrend; xlGrowthTrend; xlFlashFill", " 7  8  9  10  11 "),
+        ("xlFormatFromLeftOrAbove; xlFormatFromRightOrBelow", " 0  1 "),
+        ("xlMacintosh; xlWindows; xlMSDOS", " 1  2  3 "),
+        ("xlSortOnCellColor; xlSortOnFontColor; xlSortOnIcon", " 1  2  3 "),
+        (
+            "xlCellTypeAllFormatConditions; xlCellTypeSameFormatConditions; xlCellTypeAllValidation; \
+             xlCellTypeSameValidation",
+            "-4172 -4173 -4174 -4175 ",
+        ),
+        ("xlCommentsThreaded", "-4184 "),
+    ];
+    let body: String = groups.iter().map(|(names, _)| format!("    Debug.Print {names}\n")).collect();
+    let printed = run_main(&mut Workbook::with_sheet(), &body);
+    let expected: Vec<&str> = groups.iter().map(|(_, numbers)| *numbers).collect();
+    assert_eq!(printed, expected);
+    // A paste as the recorder writes it pastes: Operation:=xlNone and the False options.
+    let mut wb = Workbook::with_sheet();
+    let printed = run_main(
+        &mut wb,
+        "    Range(\"A1\").Value = 7\n    Range(\"A1\").Copy\n    Range(\"C1\").PasteSpecial Paste:=xlPasteValues, \
+         Operation:=xlNone, SkipBlanks _\n        :=False, Transpose:=False\n    Debug.Print Range(\"C1\").Value",
+    );
+    assert_eq!(printed, [" 7 "]);
 }
 
 #[test]

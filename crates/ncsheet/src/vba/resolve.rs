@@ -256,6 +256,10 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlsortonvalues" | "xlsortnormal" => number(0.0),
         "xlsorttextasnumbers" | "xlpinyin" => number(1.0),
         "xlstroke" => number(2.0),
+        // "XlSortOn enumeration": the colours and icons SortFields.Add refuses to sort on.
+        "xlsortoncellcolor" => number(1.0),
+        "xlsortonfontcolor" => number(2.0),
+        "xlsortonicon" => number(3.0),
         // "XlCalculation" (Application.Calculation, which a macro without a window ignores).
         "xlcalculationmanual" => number(-4135.0),
         "xlcalculationautomatic" => number(-4105.0),
@@ -284,9 +288,52 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlsrcxml" => number(2.0),
         "xlsrcquery" => number(3.0),
         "xlsrcmodel" => number(4.0),
+        // "XlPasteType enumeration", for PasteSpecial's Paste.
         "xlpasteall" => number(-4104.0),
         "xlpasteformulas" => number(-4123.0),
         "xlpastevalues" => number(-4163.0),
+        "xlpasteallexceptborders" => number(7.0),
+        "xlpastecolumnwidths" => number(8.0),
+        "xlpastecomments" => number(-4144.0),
+        "xlpasteformats" => number(-4122.0),
+        "xlpasteformulasandnumberformats" => number(11.0),
+        "xlpastevaluesandnumberformats" => number(12.0),
+        "xlpasteallusingsourcetheme" => number(13.0),
+        "xlpasteallmergingconditionalformats" => number(14.0),
+        "xlpastevalidation" => number(6.0),
+        // "XlPasteSpecialOperation enumeration", for PasteSpecial's Operation.
+        "xlpastespecialoperationnone" => number(-4142.0),
+        "xlpastespecialoperationadd" => number(2.0),
+        "xlpastespecialoperationsubtract" => number(3.0),
+        "xlpastespecialoperationmultiply" => number(4.0),
+        "xlpastespecialoperationdivide" => number(5.0),
+        // "XlAutoFillType enumeration", for Range.AutoFill's Type.
+        "xlfilldefault" => number(0.0),
+        "xlfillcopy" => number(1.0),
+        "xlfillseries" => number(2.0),
+        "xlfillformats" => number(3.0),
+        "xlfillvalues" => number(4.0),
+        "xlfilldays" => number(5.0),
+        "xlfillweekdays" => number(6.0),
+        "xlfillmonths" => number(7.0),
+        "xlfillyears" => number(8.0),
+        "xllineartrend" => number(9.0),
+        "xlgrowthtrend" => number(10.0),
+        "xlflashfill" => number(11.0),
+        // "XlInsertFormatOrigin enumeration", for Range.Insert's CopyOrigin.
+        "xlformatfromleftorabove" => number(0.0),
+        "xlformatfromrightorbelow" => number(1.0),
+        // "XlPlatform enumeration", for Workbooks.OpenText's Origin.
+        "xlmacintosh" => number(1.0),
+        "xlwindows" => number(2.0),
+        "xlmsdos" => number(3.0),
+        // The "Constants enumeration" names the macro recorder writes for TextToColumns's and
+        // OpenText's TextQualifier (`TextQualifier:=xlDoubleQuote`) and Alignment's ReadingOrder.
+        "xldoublequote" => number(1.0),
+        "xlsinglequote" => number(2.0),
+        "xlcontext" => number(-5002.0),
+        "xlltr" => number(-5003.0),
+        "xlrtl" => number(-5004.0),
         "xlsheetvisible" => number(-1.0),
         "xlsheethidden" => number(0.0),
         "xlsheetveryhidden" => number(2.0),
@@ -340,6 +387,12 @@ fn constant(lower: &str) -> Option<ExprKind> {
         "xlcelltypeblanks" => number(4.0),
         "xlcelltypevisible" => number(12.0),
         "xlcelltypecomments" => number(-4144.0),
+        "xlcelltypeallformatconditions" => number(-4172.0),
+        "xlcelltypesameformatconditions" => number(-4173.0),
+        "xlcelltypeallvalidation" => number(-4174.0),
+        "xlcelltypesamevalidation" => number(-4175.0),
+        // "XlFindLookIn enumeration": xlFormulas, xlValues and xlComments above.
+        "xlcommentsthreaded" => number(-4184.0),
         // "XlBordersIndex", "XlLineStyle", "XlBorderWeight" and "XlPattern" enumerations: what
         // recorded macros pass to Borders, harmless members ncsheet does not keep
         // (`unmodelled.rs`).

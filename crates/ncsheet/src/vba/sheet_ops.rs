@@ -302,8 +302,41 @@ impl Interp<'_, '_> {
                 ))
             }
         };
+        self.refuse_paste_special_options(ctx, link)?;
         // xlPasteAll brings the cells' formats too; xlPasteFormulas and xlPasteValues do not.
         self.paste(source, (sheet, rect), how, code as i64 == -4104, link.span)
+    }
+
+    /// PasteSpecial's Operation, SkipBlanks and Transpose as the macro recorder writes them
+    /// (`Operation:=xlNone, SkipBlanks:=False, Transpose:=False`) paste as given; an operation
+    /// on the destination's values, skipping blanks or transposing ("Range.PasteSpecial
+    /// method") are refused: pasting without them would be another result than Excel's.
+    fn refuse_paste_special_options(&self, ctx: &mut Ctx, link: &Link) -> Run<()> {
+        if let Some(expr) = argument(link, 1, "operation") {
+            let v = ctx.eval(expr).unwrap_single();
+            self.take_pending()?;
+            let operation = self.number_of(&v, "PasteSpecial's Operation").map_err(|m| self.fault_at(link.span, m))?;
+            // xlPasteSpecialOperationNone, which is xlNone (-4142).
+            if operation != -4142.0 {
+                let why = format!(
+                    "PasteSpecial Operation:={operation}: ncsheet pastes no sum, difference, product or quotient with \
+                     the destination's values"
+                );
+                return Err(self.unsupported(link.span, why));
+            }
+        }
+        for (position, name) in [(2, "skipblanks"), (3, "transpose")] {
+            let Some(expr) = argument(link, position, name) else { continue };
+            let v = ctx.eval(expr).unwrap_single();
+            self.take_pending()?;
+            if crate::eval::coerce::to_bool(&v).map_err(|e| self.fault_at(link.span, e.to_string()))? {
+                let what = if position == 2 { "SkipBlanks" } else { "Transpose" };
+                return Err(
+                    self.unsupported(link.span, format!("PasteSpecial {what}:=True: ncsheet pastes without it"))
+                );
+            }
+        }
+        Ok(())
     }
 
     /// `ws.Paste` or `ws.Paste Destination:=r` ("Worksheet.Paste method"): what the last
