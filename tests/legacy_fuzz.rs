@@ -280,8 +280,13 @@ fn damaged_xlsb_records_are_refused_naming_the_part_and_the_record() {
 
 /// An .ods package of one sheet whose rows are `rows` (content.xml's table rows).
 fn ods_with_rows(rows: &str) -> Vec<u8> {
+    ods_of(&format!(r#"<table:table table:name="S">{rows}</table:table>"#))
+}
+
+/// An .ods package whose spreadsheet (content.xml's `office:spreadsheet`) holds `body`.
+fn ods_of(body: &str) -> Vec<u8> {
     let content = format!(
-        r#"<?xml version="1.0" encoding="UTF-8"?><office:document-content xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" office:version="1.2"><office:body><office:spreadsheet><table:table table:name="S">{rows}</table:table></office:spreadsheet></office:body></office:document-content>"#
+        r#"<?xml version="1.0" encoding="UTF-8"?><office:document-content xmlns:office="urn:oasis:names:tc:opendocument:xmlns:office:1.0" xmlns:table="urn:oasis:names:tc:opendocument:xmlns:table:1.0" xmlns:text="urn:oasis:names:tc:opendocument:xmlns:text:1.0" office:version="1.2"><office:body><office:spreadsheet>{body}</office:spreadsheet></office:body></office:document-content>"#
     );
     let mut out = zip::ZipWriter::new(Cursor::new(Vec::new()));
     let stored = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
@@ -914,4 +919,51 @@ fn files_of_more_sheets_than_a_workbook_holds_are_refused_before_reading_them() 
     let sheets: String = (1..=65_536).map(|i| format!(r#"</table:table><table:table table:name="T{i}">"#)).collect();
     let error = open(ods_with_rows(&format!("{ODS_ONE}{sheets}")), Format::Ods).err().expect("refused");
     assert!(error.contains("content.xml: sheet 'T65536': a workbook holds at most 65536 sheets"), "{error}");
+}
+
+/// What an import says it left out is bounded, whatever the file holds: 30 named ranges
+/// named like cells (`n1` … `n30`, column N's cells, which Excel refuses as defined names)
+/// are five notes and a count, where they were 30 notes (300,000 of them were 31 MB of
+/// notes); a formula of 5,000 characters ncsheet cannot compute is quoted by its first 200
+/// (a 5 MB one was quoted whole).
+#[test]
+fn an_ods_import_tells_what_it_left_out_in_bounded_notes() {
+    let cell = r#"<table:table-row><table:table-cell office:value-type="float" office:value="1"/></table:table-row>"#;
+    let names: String = (1..=30)
+        .map(|i| format!(r#"<table:named-range table:name="n{i}" table:base-cell-address="$S.$A$1" table:cell-range-address="$S.$A$1:.$B$2"/>"#))
+        .collect();
+    let body = format!(
+        r#"<table:table table:name="S">{cell}</table:table><table:named-expressions>{names}</table:named-expressions>"#
+    );
+    let notes = open(ods_of(&body), Format::Ods).unwrap().notes;
+    let named: Vec<&String> = notes.iter().filter(|n| n.starts_with("name n")).collect();
+    assert_eq!(named.len(), 5, "{notes:#?}");
+    assert!(named[0].contains("'n1' cannot be a defined name"), "{}", named[0]);
+    assert!(
+        notes.contains(&"and 25 more defined names were left out (their notes are not shown)".to_string()),
+        "{notes:#?}"
+    );
+
+    let long = "a".repeat(5_000);
+    let formula = format!(
+        r#"<table:table table:name="S"><table:table-row><table:table-cell table:formula="of:='{long}'" office:value-type="float" office:value="1"/></table:table-row></table:table>"#
+    );
+    let notes = open(ods_of(&formula), Format::Ods).unwrap().notes;
+    let kept = notes.iter().find(|n| n.contains("cannot compute")).expect("the formula is noted");
+    assert!(kept.contains(&format!("S!A1 ='{}… (5003 characters in all)", "a".repeat(198))), "{kept}");
+    assert!(kept.len() < 1_000, "{} bytes", kept.len());
+}
+
+/// Excel and LibreOffice tell sheet names apart without case: an .ods of sheets `Abc` and
+/// `ABC` is refused naming both sheets, where the error named xl/worksheets/sheet2.xml, a
+/// part of the package converted in memory that the file does not have.
+#[test]
+fn an_ods_of_two_sheets_of_one_name_is_refused_naming_them() {
+    let cell = r#"<table:table-row><table:table-cell office:value-type="float" office:value="1"/></table:table-row>"#;
+    let body = format!(
+        r#"<table:table table:name="Abc">{cell}</table:table><table:table table:name="ABC">{cell}</table:table>"#
+    );
+    let error = open(ods_of(&body), Format::Ods).err().expect("refused");
+    assert!(error.contains("hostile.ods") && error.contains("sheet 'ABC' has the name of sheet 'Abc'"), "{error}");
+    assert!(!error.contains("xl/worksheets"), "{error}");
 }

@@ -24,6 +24,7 @@ pub mod csv;
 pub(crate) mod csv_locale;
 pub(crate) mod legacy;
 pub mod limits;
+pub mod notes;
 pub mod xlsx;
 
 /// The file types ncsheet knows, by extension.
@@ -340,7 +341,7 @@ impl Opened {
             cached: imported.cached,
             layout: Some(imported.layout),
             written_by: imported.written_by,
-            notes: imported.notes,
+            notes: notes::bounded(imported.notes),
             origin,
         }
     }

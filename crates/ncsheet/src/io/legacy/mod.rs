@@ -102,6 +102,7 @@ pub fn load(bytes: &[u8], path: &Path, kind: Kind, limits: ReadLimits) -> Result
         Kind::Ods => ods::read(bytes, limits),
     }
     .and_then(|book| within_limits(&book).map(|()| book))
+    .and_then(|book| distinct_sheet_names(&book).map(|()| book))
     .and_then(|book| finite_numbers(&book).map(|()| book))
     .map_err(|m| fail(format!("{} that cannot be read: {m}", kind.describe())))?;
     let package = to_package(&book).map_err(|e| fail(format!("cannot convert {}: {e}", kind.describe())))?;
@@ -144,6 +145,24 @@ fn within_limits(book: &Book) -> Result<(), String> {
             return Err(format!(
                 "its cells hold more than {} MiB of text, ncsheet's limit on the text of a file it converts",
                 MAX_TEXT >> 20
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a book two of whose sheets have one name as Excel and LibreOffice compare sheet
+/// names, without case (`Abc` and `ABC`), naming both sheets of the file: the workbook
+/// would refuse the second naming a part of the package converted in memory, which the file
+/// does not have.
+fn distinct_sheet_names(book: &Book) -> Result<(), String> {
+    let mut seen = std::collections::HashMap::new();
+    for sheet in &book.sheets {
+        if let Some(first) = seen.insert(sheet.name.to_ascii_lowercase(), &sheet.name) {
+            return Err(format!(
+                "sheet '{}' has the name of sheet '{}' (sheet names are told apart without case)",
+                crate::io::notes::quoted(&sheet.name),
+                crate::io::notes::quoted(first)
             ));
         }
     }

@@ -15,6 +15,8 @@ use crate::io::xlsx::xml::{self, Event, StreamError, TagKind};
 use crate::io::xlsx::{check_entry_names, Inflating};
 use crate::workbook::{WorkbookError, MAX_SHEETS};
 
+use crate::io::notes::{quoted, Grouped};
+
 use super::{calamine_sheet, cells_named, quoted_sheet, value_of, Book, Name, MAX_CELLS, MAX_TEXT};
 
 /// Reads an .ods file's bytes into a [`Book`]; content.xml inflates within `limits`.
@@ -52,13 +54,19 @@ pub fn read(bytes: &[u8], limits: ReadLimits) -> Result<Book, String> {
         }
         book.sheets.push(sheet);
     }
+    let mut left_out = Grouped::default();
     for (name, text) in ods.defined_names() {
         let formula = if text.starts_with("of:") { to_xlsx(text) } else { range_address(text) };
         match formula {
             Some(formula) => book.names.push(Name { name: name.clone(), formula, sheet: None }),
-            None => book.notes.push(format!("name {name} ({text}) was left out: ncsheet does not read it")),
+            None => left_out.push(format!(
+                "name {} ({}) was left out: ncsheet does not read it",
+                quoted(name),
+                quoted(text)
+            )),
         }
     }
+    left_out.finish("defined names were left out", &mut book.notes);
     book.notes.push("number formats are not read from an .ods file: values show as General".into());
     Ok(book)
 }

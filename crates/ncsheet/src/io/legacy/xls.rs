@@ -13,6 +13,8 @@ use crate::formula::address::{Pos, Rect};
 use crate::workbook::Visibility;
 
 use super::biff::{self, Context, SupBook, Unreadable};
+use crate::io::notes::{quoted, Grouped};
+
 use super::{cells_named, Book, Cell, Name, Sheet, MAX_CELLS};
 
 /// A NAME record: its name, the sheet it belongs to, formula bytes, extra bytes, and whether
@@ -237,6 +239,7 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
         book.sheets.push(sheet);
     }
 
+    let mut left_out = Grouped::default();
     for (name, scope, rgce, extra, is_macro) in &globals.names {
         if *is_macro || rgce.is_empty() {
             continue;
@@ -246,16 +249,17 @@ pub fn read(bytes: &[u8]) -> Result<Book, String> {
             Some(i) => match index_in_book.get(*i).copied().flatten() {
                 Some(s) => Some(s),
                 None => {
-                    book.notes.push(format!("name {name} belongs to a sheet that was left out"));
+                    left_out.push(format!("name {} belongs to a sheet that was left out", quoted(name)));
                     continue;
                 }
             },
         };
         match biff::decode(rgce, extra, &ctx, (0, 0), *scope) {
             Ok(formula) => book.names.push(Name { name: name.clone(), formula, sheet }),
-            Err(why) => book.notes.push(format!("name {name} was left out: ncsheet does not read {why}")),
+            Err(why) => left_out.push(format!("name {} was left out: ncsheet does not read {why}", quoted(name))),
         }
     }
+    left_out.finish("defined names were left out", &mut book.notes);
     Ok(book)
 }
 

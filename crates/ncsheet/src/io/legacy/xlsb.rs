@@ -22,6 +22,8 @@ use std::io::{BufReader, Cursor, Read, Seek};
 use std::rc::Rc;
 
 use super::biff::{self, atom, Bytes, Context, Item, SupBook, Unreadable};
+use crate::io::notes::{quoted, Grouped};
+
 use super::{cells_named, too_many_cells, Book, Cell, Name, Sheet, MAX_CELLS};
 use crate::eval::{Value, XlError};
 use crate::formula::address::{column_name, Pos, Rect};
@@ -125,6 +127,7 @@ const NAME_NOT_A_FORMULA: u32 = 0x2 | 0x8 | 0x20000;
 
 /// The workbook's defined names into `book`, as formulas of the sheets they belong to.
 fn read_names(globals: &Globals, ctx: &Context, book: &mut Book) {
+    let mut left_out = Grouped::default();
     for name in &globals.names {
         if name.flags & NAME_NOT_A_FORMULA != 0 || name.name.starts_with("_xlnm.") {
             continue;
@@ -135,16 +138,17 @@ fn read_names(globals: &Globals, ctx: &Context, book: &mut Book) {
             Some(i) => match globals.sheets.get(i).and_then(|n| book.sheets.iter().position(|s| s.name == *n)) {
                 Some(s) => Some(s),
                 None => {
-                    book.notes.push(format!("name {} belongs to a sheet that was left out", name.name));
+                    left_out.push(format!("name {} belongs to a sheet that was left out", quoted(&name.name)));
                     continue;
                 }
             },
         };
         match decode(&name.rgce, &name.extra, ctx, None, name.scope) {
             Ok(formula) => book.names.push(Name { name: name.name.clone(), formula, sheet }),
-            Err(why) => book.notes.push(format!("name {} was left out: ncsheet does not read {why}", name.name)),
+            Err(why) => left_out.push(format!("name {} was left out: ncsheet does not read {why}", quoted(&name.name))),
         }
     }
+    left_out.finish("defined names were left out", &mut book.notes);
 }
 
 /// What the workbook part says: the sheets in file order with their parts, the

@@ -12,6 +12,7 @@
 //! results of formula cells.
 
 use crate::io::limits::ReadLimits;
+use crate::io::notes;
 use std::borrow::Cow;
 use std::collections::{HashMap, HashSet};
 use std::io::Cursor;
@@ -924,7 +925,7 @@ impl<'a> SheetImport<'a> {
             let why = ParseError { offset: why.offset.min(self.typed.len()), ..why };
             wb.keep_formula_value_deferred(sheet, pos, &self.typed, why, value.clone());
             if self.kept.is_none() {
-                self.kept = Some(format!("{} {}", wb.cell_name(sheet, pos), self.typed));
+                self.kept = Some(format!("{} {}", wb.cell_name(sheet, pos), notes::quoted(&self.typed)));
             }
             self.kept_count += 1;
         }
@@ -1050,6 +1051,7 @@ fn define_names(
     ids: &[Option<SheetId>],
     book: &BookParts,
 ) {
+    let mut left_out = notes::Grouped::default();
     for n in &package.names {
         let lower = n.name.to_ascii_lowercase();
         if lower.starts_with("_xlfn.") {
@@ -1074,7 +1076,7 @@ fn define_names(
             Some(i) => match ids.get(i).copied().flatten() {
                 Some(id) => Some(id),
                 None => {
-                    imported.notes.push(format!("name {} belongs to a sheet that was left out", n.name));
+                    left_out.push(format!("name {} belongs to a sheet that was left out", notes::quoted(&n.name)));
                     continue;
                 }
             },
@@ -1091,9 +1093,10 @@ fn define_names(
             None => wb.define_name_deferred(&n.name, &formula, scope),
         };
         if let Err(e) = defined {
-            imported.notes.push(format!("name {} ({}) was left out: {e}", n.name, n.formula));
+            left_out.push(format!("name {} ({}) was left out: {e}", n.name, notes::quoted(&n.formula)));
         }
     }
+    left_out.finish("defined names were left out", &mut imported.notes);
 }
 
 /// A style's format code, `None` for General.
