@@ -267,7 +267,7 @@ impl Server {
         runtime.block_on(async move {
             self.listener.set_nonblocking(true).map_err(Error::Serve)?;
             let listener = tokio::net::TcpListener::from_std(self.listener).map_err(Error::Serve)?;
-            let listener = connections::Deadlined { listener, deadline: self.request_deadline };
+            let listener = connections::Deadlined::new(listener, self.request_deadline);
             let router = routes::router(routes::App {
                 guard: self.guard,
                 document: self.document,

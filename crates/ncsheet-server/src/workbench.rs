@@ -458,6 +458,11 @@ impl Workbench {
                 "{name}: give a file name without a folder (it is saved beside the workbook)"
             )));
         }
+        // The one check of a file name a macro or the command line gives: a name Windows
+        // reads as something else (a device, a stream) is refused on every system.
+        if let Some(why) = ncsheet::vba::checked_name(name) {
+            return Err(refused(format!("{name}: not a file name that can be saved on every system ({why})")));
+        }
         let target = self.path.with_file_name(name);
         if target == self.path {
             return if over {
@@ -605,6 +610,23 @@ mod tests {
         let refused = bench.save("book.csv", true, 0).expect_err("no conflict check is possible");
         assert!(refused.conflict && refused.message.starts_with("book.csv: "), "{}", refused.message);
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "a,1\n", "the file is left as it was");
+        std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
+    }
+
+    /// Microsoft's "Naming Files, Paths, and Namespaces" (Win32 docs): "Do not use the
+    /// following reserved names for the name of a file: CON, PRN, AUX, NUL, COM0 … LPT9 …
+    /// Also avoid these names followed immediately by an extension; for example, NUL.txt",
+    /// and names may not hold `< > : " / \ | ? *` nor end in a space or a period.
+    #[test]
+    fn a_save_as_a_windows_device_name_or_a_stream_is_refused() {
+        let (doc, path) = opened("device");
+        let mut bench = Workbench::new(doc, path.clone(), None);
+        for name in ["CON.xlsx", "con.csv", "nul.xlsx", "COM1.xlsx", "lpt9.csv", "a.xlsx:x", "b.xlsx.", "a?.csv"] {
+            let refused = bench.save(name, false, 0).expect_err(name);
+            assert!(refused.message.starts_with(&format!("{name}: not a file name")), "{}", refused.message);
+            assert!(!path.with_file_name(name).exists(), "{name} was written");
+        }
+        assert!(bench.save("console.csv", false, 0).is_ok(), "a longer name is a name");
         std::fs::remove_dir_all(path.parent().unwrap()).unwrap();
     }
 
