@@ -59,6 +59,22 @@ fn a_declared_variable_hides_a_library_object_of_its_name() {
     assert_eq!(printed(src), [" 2  5  7 d 1.5 "]);
 }
 
+// [MS-VBAL] 5.5.1.2.1 (Let-coercion to a numeric type) reads a String as CDbl does, and VBA's
+// numeric library functions and unary minus take their operand so ([MS-VBAL] 5.6.9.3.1;
+// "Int, Fix functions", "Sgn function": a Variant number): a `D` exponent (`"1D2"` is 100, as a
+// Double literal may be written, 3.3.2) and a whole `&H`/`&O` literal count, and a String that
+// is no number is Type mismatch (error 13), as `"abc" + 0` is. Johan Rodskog's DMS-to-decimal
+// UDF turns "73 58 W" into "73D58", which IsNumeric accepts, then takes Int, Abs and `-` of it:
+// each gave #VALUE! as a value, which its On Error Resume Next turned into wrong coordinates.
+#[test]
+fn numeric_functions_and_negation_read_a_string_as_cdbl_does() {
+    let src = "Sub Main()\n    Dim v\n    v = \"73D58\"\n    Debug.Print IsNumeric(v); Int(v); Abs(v); -v\n\
+               \x20   v = \"&H10\"\n    Debug.Print Int(v); -v; Sgn(\"-1D2\"); Sqr(\"1D2\"); Fix(\"-2.5\"); Int(True)\n\
+               \x20   On Error Resume Next\n    v = Int(\"abc\")\n    Debug.Print Err.Number\n    Err.Clear\n\
+               \x20   v = -\"abc\"\n    Debug.Print Err.Number\nEnd Sub\n";
+    assert_eq!(printed(src), ["True 7.3E+59  7.3E+59 -7.3E+59 ", " 16 -16 -1  10 -2 -1 ", " 13 ", " 13 "]);
+}
+
 /// A macro run with the project's other standard modules (name, source).
 fn printed_with_modules(main: &str, modules: &[(&str, &str)]) -> Vec<String> {
     let project = modules.iter().map(|(n, s)| (n.to_string(), s.to_string())).collect();

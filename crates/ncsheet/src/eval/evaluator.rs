@@ -1615,6 +1615,15 @@ impl<'a> Ctx<'a> {
                     // A macro's True is -1 ([MS-VBAL] 5.5.1.2.1), so `-True` is 1.
                     Value::Bool(b) if self.host.is_some() => Value::Number(if b { 1.0 } else { 0.0 }),
                     v => {
+                        // A macro's String operand is let-coerced as CDbl reads it ([MS-VBAL]
+                        // 5.6.9.3.1, 5.5.1.2.1): `-"1D2"` is -100 and `-"&H10"` -16, as
+                        // `"1D2" + 0` is 100 (`vba/host.rs`, `vba_operands`).
+                        let v = match (v, self.host) {
+                            (Value::Text(t), Some(_)) => {
+                                crate::eval::functions::vba::vba_number_text(&t).map_or(Value::Text(t), Value::Number)
+                            }
+                            (v, _) => v,
+                        };
                         let negated = map_number(&v, |x| Ok(-x), self.dates);
                         match self.host {
                             Some(host) => host.negation(inner, negated),

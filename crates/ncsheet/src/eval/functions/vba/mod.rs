@@ -681,9 +681,12 @@ fn number_fn_of(
             if let Some(result) = null_argument(ctx, name, std::slice::from_ref(&v), passes) {
                 return result;
             }
-            let dates = ctx.dates();
-            let v = ctx.locale().numbers_for_arithmetic(v, dates);
-            lift_values(&[v], &|v| apply(to_number(&v[0], dates)?))
+            // The argument is read as VBA's conversions read it (a Double parameter's Let
+            // coercion, [MS-VBAL] 5.5.1.2.1): `Int("&H10")` is 16, `Sqr("1D2")` 10, `Sgn(True)` -1,
+            // and a String that is no number is Type mismatch (error 13), where the sheet's
+            // reading gave #VALUE! as the function's value.
+            let v = ctx.locale().numbers_for_arithmetic(v, ctx.dates());
+            lift_values(&[v], &|v| apply(raised.number(&v[0])?))
         }
     };
     raised.raise(ctx, name, result)
