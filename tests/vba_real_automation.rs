@@ -351,7 +351,11 @@ fn a_built_in_number_style_sets_the_number_format() {
 // omitted) and comes round, After itself last; SearchOrder xlByRows or xlByColumns,
 // SearchDirection xlNext or xlPrevious; LookAt xlPart (default) or xlWhole; case is ignored
 // unless MatchCase; "*" matches any filled cell; Nothing when no cell matches. The last-row
-// idiom `Cells.Find("*", SearchOrder:=xlByRows, SearchDirection:=xlPrevious).Row`.
+// idiom `Cells.Find("*", SearchOrder:=xlByRows, SearchDirection:=xlPrevious).Row`. "The
+// settings for LookIn, LookAt, SearchOrder, and MatchByte are saved each time you use this
+// method. If you don't specify values for these arguments the next time you call the method,
+// the saved values are used": the last Find("2") searches values (D3 shows 2) as the one
+// before it did, until LookIn:=xlFormulas is named again.
 #[test]
 fn range_find_searches_after_a_cell_in_either_order_and_direction() {
     let mut wb = Workbook::with_sheet();
@@ -368,9 +372,75 @@ fn range_find_searches_after_a_cell_in_either_order_and_direction() {
          \x20   Debug.Print Cells.Find(\"*\", SearchOrder:=xlByColumns, SearchDirection:=xlPrevious).Column\n\
          \x20   Debug.Print Range(\"A1:D4\").Find(\"aaa\", LookAt:=xlWhole, SearchOrder:=xlByColumns).Address\n\
          \x20   Debug.Print Range(\"A1:D4\").Find(\"AAAB\", MatchCase:=True) Is Nothing\n\
-         \x20   Debug.Print Range(\"A1:D4\").Find(\"2\", LookIn:=xlValues).Address; Range(\"A1:D4\").Find(\"2\") Is Nothing",
+         \x20   Debug.Print Range(\"A1:D4\").Find(\"2\", LookIn:=xlValues).Address; Range(\"A1:D4\").Find(\"2\").Address\n\
+         \x20   Debug.Print Range(\"A1:D4\").Find(\"2\", LookIn:=xlFormulas) Is Nothing; Range(\"A1:D4\").Find(\"2\") Is Nothing",
     );
-    assert_eq!(out, ["$A$2", "$A$4", " 6 ", " 4 ", "$A$2", "True", "$D$3True"]);
+    assert_eq!(out, ["$A$2", "$A$4", " 6 ", " 4 ", "$A$2", "True", "$D$3$D$3", "TrueTrue"]);
+}
+
+// "Range.FindNext method": "Continues a search that was begun with the Find method. Finds the
+// next cell that matches those same conditions"; After omitted, "the search starts after the
+// cell in the upper-left corner of the range"; "When the search reaches the end of the
+// specified search range, it wraps around to the beginning of the range. To stop a search when
+// this wraparound occurs, save the address of the first found cell" (its example's loop).
+// FindPrevious goes the other way. The page's example changes every cell holding 2 to 5: "the
+// values 1234 and 99299 both contain 2 and both cell values will become 5", and its loop ends
+// when FindNext finds Nothing.
+#[test]
+fn find_next_goes_on_with_the_last_finds_conditions_and_comes_round() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "b"), ("A2", "a"), ("A3", "B"), ("A4", "c"), ("A5", "abc"), ("A6", "bb")] {
+        set(&mut wb, 0, cell, v);
+    }
+    for (cell, v) in [("C1", "1"), ("C2", "2"), ("C3", "1234"), ("C4", "7"), ("C5", "99299"), ("C6", "3")] {
+        set(&mut wb, 0, cell, v);
+    }
+    let out = run(
+        &mut wb,
+        "    Dim c As Range, first As String, found As String\n\
+         \x20   With Range(\"A1:A6\")\n\
+         \x20       Set c = .Find(\"b\", LookAt:=xlWhole)\n\
+         \x20       first = c.Address\n\
+         \x20       Do\n\
+         \x20           found = found & c.Address & \" \"\n\
+         \x20           Set c = .FindNext(c)\n\
+         \x20       Loop While Not c Is Nothing And c.Address <> first\n\
+         \x20       Debug.Print found; .FindPrevious(Range(\"A3\")).Address; .FindNext().Address\n\
+         \x20   End With\n\
+         \x20   With Range(\"C1:C6\")\n\
+         \x20       Set c = .Find(2, LookIn:=xlValues, LookAt:=xlPart)\n\
+         \x20       Do\n\
+         \x20           c.Value = 5\n\
+         \x20           Set c = .FindNext(c)\n\
+         \x20       Loop While Not c Is Nothing\n\
+         \x20   End With",
+    );
+    assert_eq!(out, ["$A$3 $A$1 $A$1$A$3"]);
+    let column: Vec<Value> = (1..=6).map(|r| get(&wb, 0, &format!("C{r}"))).collect();
+    assert_eq!(column, [n(1.0), n(5.0), n(5.0), n(7.0), n(5.0), n(3.0)]);
+}
+
+// "Range.Item property": "Returns a Range object that represents a range at an offset to the
+// specified range"; Item is the Range's default member, so `ActiveCell(2, 1)` is the cell
+// below the active cell and `Selection(1, 2)` the one right of the selection's first cell (a
+// recorded find-all writes its list with `ActiveCell(j, 1) = found(j, 1)`), where the index was
+// dropped and the active cell itself written.
+#[test]
+fn active_cell_and_selection_take_an_index_as_their_item() {
+    let mut wb = Workbook::with_sheet();
+    let out = run(
+        &mut wb,
+        "    Range(\"B2:C3\").Select\n\
+         \x20   ActiveCell(2, 1) = \"below\"\n\
+         \x20   Selection(1, 2) = \"right\"\n\
+         \x20   Selection(4).Value = \"fourth\"\n\
+         \x20   Debug.Print ActiveCell(2, 1).Address; Application.ActiveCell(1, 3).Address; ActiveCell.Address",
+    );
+    assert_eq!(out, ["$B$3$D$2$B$2"]);
+    assert_eq!(get(&wb, 0, "B3"), Value::text("below"));
+    assert_eq!(get(&wb, 0, "C2"), Value::text("right"));
+    assert_eq!(get(&wb, 0, "C3"), Value::text("fourth"));
+    assert_eq!(get(&wb, 0, "B2"), Value::Blank);
 }
 
 // "Range.Clear method": "Clears the entire object" (values and formats); "Range.ClearFormats

@@ -437,6 +437,9 @@ pub struct Interp<'m, 'w> {
     pub(super) protections: RefCell<std::collections::HashMap<SheetId, super::sheet_ops::SheetProtection>>,
     /// Each worksheet's `Sort` object: its fields, range and header until `Apply` (`sort.rs`).
     pub(super) sorts: RefCell<std::collections::HashMap<SheetId, super::sort::SheetSort>>,
+    /// The last `Range.Find`'s conditions, which FindNext continues and a later Find's left-out
+    /// settings take (`replace.rs`).
+    pub(super) find_conditions: RefCell<super::replace::FindConditions>,
     /// The array a class's Function last returned, with its bounds (`classes.rs`).
     pub(super) method_array: RefCell<Option<super::value::VArray>>,
     /// How the sheets' cells look (number formats, styles, widths), `formats.rs`: shared by a
@@ -527,6 +530,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             clipboard: RefCell::new(None),
             protections: RefCell::new(std::collections::HashMap::new()),
             sorts: RefCell::new(std::collections::HashMap::new()),
+            find_conditions: RefCell::default(),
             method_array: RefCell::new(None),
             looks: Rc::new(RefCell::new(super::formats::Looks::default())),
             notes: RefCell::new(Vec::new()),

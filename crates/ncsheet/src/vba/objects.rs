@@ -180,8 +180,7 @@ impl Interp<'_, '_> {
                 None => self.home.map_or(Obj::Workbook, Obj::Sheet),
             }),
             "activesheet" => Ok(Obj::Sheet(active)),
-            "activecell" => Ok(Obj::Range(active, Rect::cell(self.cursor(active).1))),
-            "selection" => Ok(Obj::Range(active, self.cursor(active).0)),
+            "activecell" | "selection" => self.active_range(ctx, active, name == "selection", link),
             "worksheets" | "sheets" => match link.args {
                 None => Ok(Obj::Sheets),
                 Some(_) => self.sheet_or_group(ctx, link),
@@ -206,6 +205,20 @@ impl Interp<'_, '_> {
             // `ActiveWindow.Zoom = 80`: Excel's window, harmless to set (`unmodelled.rs`).
             other => super::unmodelled::window_root(other)
                 .ok_or_else(|| self.fault_at(link.span, format!("{} is not an object", link.name))),
+        }
+    }
+
+    /// `ActiveCell` or `Selection`, and, given an index, its default member Item ("Range.Item
+    /// property": "Returns a Range object that represents a range at an offset to the
+    /// specified range"): `ActiveCell(j, 1)` is the cell j - 1 rows below the active cell,
+    /// where the index was dropped and the active cell itself read or written.
+    #[inline(never)]
+    fn active_range(&self, ctx: &mut Ctx, active: SheetId, selection: bool, link: &Link) -> Run<Obj> {
+        let (selected, cell) = self.cursor(active);
+        let origin = if selection { selected } else { Rect::cell(cell) };
+        match &link.args {
+            Some(args) if !args.is_empty() => self.cells(ctx, active, origin, link),
+            _ => Ok(Obj::Range(active, origin)),
         }
     }
 
@@ -743,6 +756,7 @@ impl Interp<'_, '_> {
             "removeduplicates" => self.remove_duplicates(ctx, sheet, rect, link),
             "texttocolumns" => self.text_to_columns(ctx, sheet, rect, link),
             "find" => self.find_in_range(ctx, sheet, rect, link),
+            "findnext" | "findprevious" => self.find_next_in_range(ctx, sheet, rect, link, name == "findprevious"),
             "currentregion" => Ok(Obj::Range(sheet, self.current_region(sheet, rect))),
             "specialcells" => self.special_cells(sheet, link),
             "pastespecial" => {

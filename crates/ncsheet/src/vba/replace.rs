@@ -1,7 +1,9 @@
-//! `Range.Replace` ("Range.Replace method") and `Range.Find` ("Range.Find method"): Excel's Find
-//! and Replace over a range's cells, as a recorded macro runs it (`Columns("B:B").Replace
-//! What:=",", Replacement:=".", LookAt:=xlPart`, `Cells.Find("*", SearchOrder:=xlByRows,
-//! SearchDirection:=xlPrevious).Row`).
+//! `Range.Replace` ("Range.Replace method"), `Range.Find` ("Range.Find method") and
+//! `Range.FindNext`/`FindPrevious`: Excel's Find and Replace over a range's cells, as a
+//! recorded macro runs it (`Columns("B:B").Replace What:=",", Replacement:=".", LookAt:=xlPart`,
+//! `Cells.Find("*", SearchOrder:=xlByRows, SearchDirection:=xlPrevious).Row`) and as the
+//! find-all loop of Microsoft's example goes round (`Set c = .FindNext(c)` until the first
+//! address comes back).
 
 use regex::{NoExpand, Regex};
 
@@ -66,34 +68,96 @@ impl Interp<'_, '_> {
 
     /// `rng.Find What, [After], [LookIn], [LookAt], [SearchOrder], [SearchDirection],
     /// [MatchCase]`: the first cell after `After` (the range's first cell when omitted), by rows
-    /// or by columns (xlByRows, the default, or xlByColumns), forward (xlNext) or backward
-    /// (xlPrevious), coming round from the range's other end, `After` itself searched last,
-    /// whose formula or typed constant (LookIn:=xlFormulas, the default) or shown text
-    /// (xlValues) holds `What` as Replace matches it; Nothing when no cell does. Empty cells
-    /// never match.
+    /// or by columns (xlByRows or xlByColumns), forward (xlNext) or backward (xlPrevious),
+    /// coming round from the range's other end, `After` itself searched last, whose formula or
+    /// typed constant (LookIn:=xlFormulas) or shown text (xlValues) holds `What` as Replace
+    /// matches it; Nothing when no cell does. Empty cells never match. "The settings for
+    /// LookIn, LookAt, SearchOrder, and MatchByte are saved each time you use this method. If
+    /// you don't specify values for these arguments the next time you call the method, the
+    /// saved values are used" (Range.Find method): the run starts with the Find dialog's
+    /// xlFormulas, xlPart, xlByRows. What, MatchCase and those settings are the conditions
+    /// `FindNext` and `FindPrevious` go on with.
     pub(super) fn find_in_range(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let what =
             self.text_argument(link, 0, "What")?.ok_or_else(|| self.fault_at(link.span, "Range.Find needs What:="))?;
-        let after = match argument(link, 1, "After").map(|e| self.var_of(e, true)).transpose()? {
-            Some(Var::Obj(Obj::Range(_, r))) => r.first,
-            None => rect.first,
-            Some(_) => return Err(self.fault_at(link.span, "Range.Find After:= takes one cell of the range")),
+        let after = self.after_argument(link, 1, rect)?;
+        let saved = self.find_conditions.borrow().clone();
+        let conditions = FindConditions {
+            what: Some(what),
+            by_values: self.find_setting(link, 2, "LookIn", "xlvalues", saved.by_values)?,
+            whole: self.find_setting(link, 3, "LookAt", "xlwhole", saved.whole)?,
+            by_columns: self.find_setting(link, 4, "SearchOrder", "xlbycolumns", saved.by_columns)?,
+            match_case: self.flag_argument(link, 6, "MatchCase")?.unwrap_or(false),
         };
-        let number = |position, name, default: f64| -> Run<f64> {
-            match argument(link, position, name).map(|e| self.eval(e)).transpose()? {
-                None => Ok(default),
-                Some(Value::Number(n)) => Ok(n),
-                Some(_) => Err(self.fault_at(link.span, format!("Range.Find {name}:= takes an Xl constant"))),
+        let backward = self.find_setting(link, 5, "SearchDirection", "xlprevious", false)?;
+        *self.find_conditions.borrow_mut() = conditions.clone();
+        self.search_cells(ctx, sheet, rect, after, backward, &conditions, link)
+    }
+
+    /// `rng.FindNext [After]` and `rng.FindPrevious [After]` ("Range.FindNext method":
+    /// "Continues a search that was begun with the Find method. Finds the next cell that matches
+    /// those same conditions"): the last Find's What, LookIn, LookAt, SearchOrder and MatchCase
+    /// over this range, after `After` (the range's first cell when omitted), coming round at the
+    /// range's end, forward or (FindPrevious) backward. The loop of Microsoft's example stops
+    /// when the address found first comes round again.
+    pub(super) fn find_next_in_range(
+        &self,
+        ctx: &mut Ctx,
+        sheet: SheetId,
+        rect: Rect,
+        link: &Link,
+        backward: bool,
+    ) -> Run<Obj> {
+        let conditions = self.find_conditions.borrow().clone();
+        if conditions.what.is_none() {
+            let method = if backward { "FindPrevious" } else { "FindNext" };
+            let why = format!("Range.{method} continues a search begun with Range.Find, and this run has made none");
+            return Err(self.fault_at(link.span, why));
+        }
+        let after = self.after_argument(link, 0, rect)?;
+        self.search_cells(ctx, sheet, rect, after, backward, &conditions, link)
+    }
+
+    /// The `After:=` cell of Find and FindNext: the first cell of the range given, or the
+    /// searched range's first cell when omitted.
+    fn after_argument(&self, link: &Link, position: usize, rect: Rect) -> Run<Pos> {
+        match argument(link, position, "After").map(|e| self.var_of(e, true)).transpose()? {
+            Some(Var::Obj(Obj::Range(_, r))) => Ok(r.first),
+            None => Ok(rect.first),
+            Some(_) => {
+                Err(self.fault_at(link.span, format!("Range.{} After:= takes one cell of the range", link.name)))
             }
-        };
-        let by_values = number(2, "LookIn", xl("xlformulas"))? == xl("xlvalues");
-        let whole = number(3, "LookAt", xl("xlpart"))? == xl("xlwhole");
-        let by_columns = number(4, "SearchOrder", xl("xlbyrows"))? == xl("xlbycolumns");
-        let backward = number(5, "SearchDirection", xl("xlnext"))? == xl("xlprevious");
-        let match_case = self.flag_argument(link, 6, "MatchCase")?.unwrap_or(false);
-        let pattern = wildcard_pattern(&what, whole, match_case);
+        }
+    }
+
+    /// One of Find's Xl-constant settings: whether it is `yes` (xlValues, xlWhole,
+    /// xlByColumns, xlPrevious), the saved choice when the argument is left out.
+    fn find_setting(&self, link: &Link, position: usize, name: &str, yes: &str, saved: bool) -> Run<bool> {
+        match argument(link, position, name).map(|e| self.eval(e)).transpose()? {
+            None => Ok(saved),
+            Some(Value::Number(n)) => Ok(n == xl(yes)),
+            Some(_) => Err(self.fault_at(link.span, format!("Range.Find {name}:= takes an Xl constant"))),
+        }
+    }
+
+    /// The cell Find, FindNext or FindPrevious lands on: the nearest match past `after` in the
+    /// search's order and direction, coming round from the range's other end, `after` last.
+    #[allow(clippy::too_many_arguments)]
+    fn search_cells(
+        &self,
+        ctx: &mut Ctx,
+        sheet: SheetId,
+        rect: Rect,
+        after: Pos,
+        backward: bool,
+        conditions: &FindConditions,
+        link: &Link,
+    ) -> Run<Obj> {
+        let what = conditions.what.as_deref().unwrap_or_default();
+        let pattern = wildcard_pattern(what, conditions.whole, conditions.match_case);
         let pattern =
             Regex::new(&pattern).map_err(|e| self.fault_at(link.span, format!("Range.Find What:={what}: {e}")))?;
+        let by_columns = conditions.by_columns;
         let key = |p: Pos| if by_columns { (p.col, p.row) } else { (p.row, p.col) };
         let used = ctx.clip_to_used(sheet, rect);
         let mut found: Option<Pos> = None;
@@ -118,7 +182,7 @@ impl Interp<'_, '_> {
             for col in used.first.col..=used.last.col {
                 let p = Pos::new(row, col);
                 self.add_work(1);
-                let text = match by_values {
+                let text = match conditions.by_values {
                     true if self.wb.borrow().value(sheet, p) == Value::Blank => continue,
                     true => self.shown_text(ctx, sheet, p),
                     false => match self.formulas(sheet, Rect::cell(p), false) {
@@ -190,4 +254,16 @@ mod tests {
         assert_eq!(wildcard_pattern("a*b?", false, true), "(?s)a.*b.");
         assert_eq!(wildcard_pattern("~*.~?", true, false), "(?si)^\\*\\.\\?$");
     }
+}
+
+/// What `Range.Find` was last asked for, which `FindNext` and `FindPrevious` continue; its
+/// LookIn, LookAt and SearchOrder are also the settings a later Find leaving them out uses.
+/// The run starts with Excel's Find dialog: xlFormulas, xlPart, xlByRows, no search made.
+#[derive(Clone, Default)]
+pub(super) struct FindConditions {
+    what: Option<String>,
+    by_values: bool,
+    whole: bool,
+    by_columns: bool,
+    match_case: bool,
 }
