@@ -304,3 +304,121 @@ fn a_macro_tool_change_gives_its_length_offset() {
         vba::run(&mut wb, "Sub Main()\n    Nc.Tool 1, 100\nEnd Sub\n", "t.bas", &RunOptions::default()).unwrap_err();
     assert_eq!(e.message, "Nc.Tool: Offset is an offset number from 1 to 99, or 0 for none");
 }
+
+/// A Fanuc main program and the subprograms written after it in the same file, as the 0i-MC
+/// manual (B-64124EN/01 §12.3, "Subprogram (M98, M99)") writes them: `M98 P1002 L3` and the
+/// packed `M98 P21002` ("M98 P51002 … Call the subprogram (number 1002) five times"), a
+/// subprogram calling another (two levels), and `M99 P30` returning to the caller's `N30`
+/// instead of the block after the call.
+const FANUC_CALLS: &str = "O0001 (CALLS)\nG21 G17 G90 G94\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\nM98 P1002 L3\n\
+M98 P21002 ;G0 X50\nM98 P1003\nN20 G0 Z40\nN30 G0 Z50\nM30\n\
+O1002\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90 M99\n\
+O1003\nG1 X60 F200\nM98 P1002\nM99 P30\n";
+
+/// The same program written out flat by hand: what the control runs.
+const FANUC_FLAT: &str = "O0001 (CALLS)\nG21 G17 G90 G94\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\n\
+G91 G1 Z-6 F100\nX10\nG0 Z6\nG90\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90\n\
+G91 G1 Z-6 F100\nX10\nG0 Z6\nG90\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90\nG0 X50\n\
+G1 X60 F200\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90\nG0 Z50\nM30\n";
+
+/// The same calls in LinuxCNC's O-codes (o-code.adoc: `sub`/`call`, `repeat`), for rs274.
+const LINUXCNC_CALLS: &str = "o1002 sub\nG91 G1 Z-6 F100\nX10\nG0 Z6\nG90\no1002 endsub\n\
+G21 G17 G90 G94\nT1 M6\nS1000 M3\nG0 X0 Y0 Z5\no100 repeat [5]\no1002 call\no100 endrepeat\nG90 G0 X50\n\
+G1 X60 F200\no1002 call\nG90 G0 Z50\nM2\n";
+
+/// Where each move of a program read back ends, every axis filled in.
+fn end_points(p: &Program) -> Vec<[f64; 3]> {
+    let mut at = [f64::NAN; 3];
+    let mut out = Vec::new();
+    for b in &p.blocks {
+        if let Block::Rapid(t) | Block::Line { to: t, .. } = b {
+            at = [t.x.unwrap_or(at[0]), t.y.unwrap_or(at[1]), t.z.unwrap_or(at[2])];
+            out.push(at);
+        }
+    }
+    out
+}
+
+#[test]
+fn fanuc_subprogram_calls_and_repeats_read_as_the_flat_program_and_as_rs274_runs_them() {
+    let called = read::read(FANUC_CALLS, Family::Fanuc, None).unwrap_or_else(|e| panic!("{e}"));
+    let flat = read::read(FANUC_FLAT, Family::Fanuc, None).unwrap();
+    assert_eq!(called.blocks, flat.blocks);
+    assert_eq!(called.number, Some(1));
+    let points = end_points(&called);
+    // Five passes of three moves, each 10 mm further in X, then the moves after them.
+    assert_eq!(points.len(), 1 + 5 * 3 + 1 + 1 + 3 + 1, "{points:?}");
+    assert_eq!(points[15], [50.0, 0.0, 5.0]);
+    if !common::rs274::available() {
+        eprintln!("rs274 is not installed: the LinuxCNC reading of the same calls is not compared");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("calls.ngc");
+    std::fs::write(&path, LINUXCNC_CALLS).unwrap();
+    let theirs: Vec<[f64; 3]> = common::rs274::moves(&path)
+        .unwrap()
+        .into_iter()
+        .map(|m| match m {
+            common::rs274::Move::Traverse { x, y, z } | common::rs274::Move::Feed { x, y, z } => [x, y, z],
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(theirs.len(), points.len(), "{theirs:?}");
+    for (ours, theirs) in points.iter().zip(&theirs) {
+        assert!(ours.iter().zip(theirs).all(|(a, b)| (a - b).abs() < 1e-6), "{ours:?} vs rs274 {theirs:?}");
+    }
+}
+
+#[test]
+fn nc_time_of_fanuc_subprogram_calls_is_the_flat_programs() {
+    let dir = tempfile::tempdir().unwrap();
+    let time = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        run.stdout.lines().find(|l| l.starts_with("cycle time")).unwrap().to_string()
+    };
+    assert_eq!(time("calls.nc", FANUC_CALLS), time("flat.nc", FANUC_FLAT));
+}
+
+/// What the manual bounds (a count of 1–999, four levels of nesting) and what the file does
+/// not hold (alarm 078) are refused at their line and column; so is what the manual leaves to
+/// a control's set-up (M99 in the main program restarts it; `M99 P` out of a repeated call).
+#[test]
+fn fanuc_subprogram_calls_the_control_would_not_run_are_refused_at_their_line_and_column() {
+    let sub = "O1002\nG91 G1 X1 F100\nG90 M99\n";
+    let nested = "O0001\nG0 X0 Y0 Z5\nM98 P1001\nM30\nO1001\nM98 P1002\nM99\nO1002\nM98 P1003\nM99\nO1003\n\
+                  M98 P1004\nM99\nO1004\nM98 P1005\nM99\nO1005\nG1 X1 F100 M99\n";
+    let cases = [
+        (format!("G0 X0 Y0 Z5\nM98 P1009\nM30\n{sub}"), 2, 5, "O1009, which this file does not hold"),
+        (format!("G0 X0 Y0 Z5\nM98 P1002 L1000\nM30\n{sub}"), 2, 5, "1 to 999 times"),
+        (format!("G0 X0 Y0 Z5\nM98 P51002 L2\nM30\n{sub}"), 2, 5, "a count in P and an L"),
+        (format!("G0 X0 Y0 Z5\nM98 P1002 Q10\nM30\n{sub}"), 2, 11, "Q"),
+        ("G0 X0 Y0 Z5\nG1 X1 F100\nM99\n".to_string(), 3, 1, "M99 in the main program"),
+        ("G0 X0 Y0 Z5\nM98 P1002\nM30\nO1002\nG1 X1 F100\n".to_string(), 4, 1, "O1002 has no M99"),
+        ("N10 G0 X0 Y0 Z5\nM98 P31002\nM30\nO1002\nG1 X1 F100 M99 P10\n".to_string(), 2, 5, "repeats it 3 times"),
+        (nested.to_string(), 15, 5, "nest more than 4 levels"),
+        (format!("G0 X0 Y0 Z5\nM98 P1002\nM30\n{sub}O1002\nM99\n"), 7, 1, "written twice"),
+    ];
+    for (text, line, column, says) in cases {
+        let e = read::read(&text, Family::Fanuc, None).unwrap_err();
+        assert_eq!((e.line, e.column), (line, column), "{text}\n{e}");
+        assert!(e.message.contains(says), "{text}\n{e}");
+    }
+}
+
+/// `M98 P…L999` four levels deep is 999^4 (about 10^12) passes: the reader stops at the
+/// budget every unrolled program shares (docs/limits.md), at the block that passes it.
+#[test]
+fn fanuc_repeats_nested_four_deep_stop_at_the_block_budget() {
+    let mut text = String::from("O0001\nG0 X0 Y0 Z5\nM98 P1001 L999\nM30\n");
+    for n in 1001..=1003 {
+        text.push_str(&format!("O{n}\nM98 P{} L999\nM99\n", n + 1));
+    }
+    text.push_str("O1004\nG91 G1 X1 F100\nG90 M99\n");
+    let e = read::read(&text, Family::Fanuc, None).unwrap_err();
+    assert!(e.message.contains("runs more than 1000000 blocks"), "{e}");
+    assert_eq!(e.line, 15, "{e}");
+}

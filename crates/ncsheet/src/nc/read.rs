@@ -16,6 +16,7 @@ use super::program::{
 };
 
 pub mod detect;
+mod fanuc_calls;
 mod flow;
 pub mod heidenhain;
 mod nc31;
@@ -188,8 +189,12 @@ pub fn read_with_lines(
     let mut ended = false;
     let mut parameters = parameters::Parameters::default();
     // NC31 runs its subprograms, parameters and jumps ([`nc31`]): the blocks it executes.
+    // Fanuc runs its subprogram calls (M98, M99) over the file's other O programs ([`fanuc_calls`]).
+    let fanuc = if family == Family::Fanuc { Some(fanuc_calls::unroll(text)?) } else { None };
     let mut sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
         Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line)))
+    } else if let Some(unrolled) = &fanuc {
+        Box::new(unrolled.blocks())
     } else {
         Box::new(text.lines().enumerate().map(|(i, l)| (std::borrow::Cow::Borrowed(l), i + 1)))
     };

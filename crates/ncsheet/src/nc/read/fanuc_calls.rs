@@ -1,0 +1,389 @@
+//! Fanuc subprograms, as the FANUC Series 0i-MC manual (B-64124EN/01, §12.3 "Subprogram
+//! (M98, M99)") describes them; the reader runs the calls, so every tool sees the blocks the
+//! control executes:
+//!
+//! - a subprogram is an `O` program of its own (`O1002 ;` … `M99 ;`), written in the same
+//!   file after the main program; `M99` may share a block with a move (`X100. Y100. M99 ;`);
+//! - `M98 P1002` calls it once, `M98 P1002 L5` five times, and the packed form `M98 P51002`
+//!   five times too ("Call the subprogram (number 1002) five times in succession": the last
+//!   four digits of P are the program, the digits before them the count); "a single call
+//!   command can repeatedly call a subprogram up to 999 times";
+//! - calls nest up to four levels (the main program calling a subprogram is one level);
+//! - `M99 P30` returns to the block `N30` of the calling program instead of the block after
+//!   the call;
+//! - a call to a program the file does not hold is the control's alarm 078, here an error
+//!   naming the line and column of its P.
+//!
+//! What the manual leaves to a control's parameters or macro programs is refused by name:
+//! `M98 … Q` (a start sequence number), `M99` in the main program (it runs the program again
+//! from its start, without end) and `M99 P` ending a call that repeats.
+
+use std::borrow::Cow;
+
+use super::nc31::MAX_BLOCKS_RUN;
+use super::ReadError;
+
+/// Calls nested deeper than this are refused (B-64124EN/01 §12.3: "subprogram calls can be
+/// nested up to four levels").
+const MAX_NESTING: usize = 4;
+/// The most times one call repeats its subprogram (§12.3: "up to 999 times").
+const MAX_REPEATS: u32 = 999;
+/// Text the unrolled program may hold beyond the text written: the reader copies each
+/// block it runs, so a long block repeated a million times is bounded by its bytes as well
+/// as by the block count.
+const MAX_TEXT_RUN: usize = 64 << 20;
+
+/// A program's blocks as the control runs them: each block of the file once, and the order
+/// the calls run them in (indices, so that a block repeated a million times is stored once).
+pub(crate) struct Unrolled {
+    blocks: Vec<(String, usize)>,
+    order: Vec<usize>,
+}
+
+impl Unrolled {
+    /// The blocks in the order they run, each with its 1-based source line.
+    pub(crate) fn blocks(&self) -> impl Iterator<Item = (Cow<'_, str>, usize)> + '_ {
+        self.order.iter().map(|&i| (Cow::Borrowed(self.blocks[i].0.as_str()), self.blocks[i].1))
+    }
+}
+
+/// One word of a block: its letter, its number as written, and its columns (0-based, end
+/// exclusive) in the block's line.
+#[derive(Clone, Debug)]
+struct Word {
+    letter: char,
+    number: String,
+    start: usize,
+    end: usize,
+}
+
+impl Word {
+    fn is(&self, letter: char, n: u32) -> bool {
+        self.letter == letter && self.value() == Some(n as f64)
+    }
+
+    fn value(&self) -> Option<f64> {
+        self.number.parse::<f64>().ok().filter(|v| v.is_finite())
+    }
+}
+
+/// What a block does to the flow of the program.
+#[derive(Clone, Debug)]
+enum Flow {
+    Plain,
+    /// `M98`: the program called, how many times, the column of its P.
+    Call {
+        program: u32,
+        repeats: u32,
+        column: usize,
+    },
+    /// `M99`, with the sequence number of its P.
+    Return {
+        to: Option<u32>,
+        column: usize,
+    },
+}
+
+/// One block of the file: where it is, its N number, what it does, and the index of its
+/// text to run (`None` when nothing is left once the call's words are taken out).
+struct Block {
+    line: usize,
+    label: Option<u32>,
+    flow: Flow,
+    text: Option<usize>,
+}
+
+/// An `O` program of the file: its number (the main program may have none) and its blocks.
+struct Program {
+    number: Option<u32>,
+    line: usize,
+    blocks: Vec<Block>,
+}
+
+fn error(line: usize, column: usize, message: impl Into<String>) -> ReadError {
+    ReadError { line, column, message: message.into() }
+}
+
+/// Unrolls `text`, a Fanuc program and the subprograms written after it, into the blocks
+/// the control runs.
+pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
+    let mut texts = Vec::new();
+    let programs = split(text, &mut texts)?;
+    let written_bytes: usize = texts.iter().map(|(t, _): &(String, usize)| t.len()).sum();
+    let written_blocks = programs.iter().map(|p| p.blocks.len()).sum::<usize>();
+    let mut run = Run {
+        programs: &programs,
+        texts: &texts,
+        order: Vec::new(),
+        steps_left: written_blocks.saturating_add(MAX_BLOCKS_RUN),
+        bytes_left: written_bytes.saturating_add(MAX_TEXT_RUN),
+    };
+    run.main()?;
+    let order = run.order;
+    Ok(Unrolled { blocks: texts, order })
+}
+
+/// The file's blocks, grouped into its `O` programs: the first is the main program (its `O`
+/// line, if any, kept as a block the reader reads); every later `O` line starts a subprogram.
+fn split(text: &str, texts: &mut Vec<(String, usize)>) -> Result<Vec<Program>, ReadError> {
+    let mut programs = vec![Program { number: None, line: 1, blocks: Vec::new() }];
+    for (i, line_text) in text.lines().enumerate() {
+        let line = i + 1;
+        for raw in super::blocks_of_line(line_text, super::Family::Fanuc) {
+            if matches!(raw.trim(), "" | "%") {
+                continue;
+            }
+            let words = words(&raw);
+            if let Some(o) = words.first().filter(|w| w.letter == 'O') {
+                let main_started = !programs[0].blocks.is_empty() || programs.len() > 1;
+                if main_started {
+                    programs.push(header(o, &words, line, &programs)?);
+                    continue;
+                }
+            }
+            let flow = flow(&words, line)?;
+            let rest = match flow {
+                Flow::Plain => Some(raw),
+                _ => without_flow_words(&raw, &words),
+            };
+            let text = rest.map(|r| {
+                texts.push((r, line));
+                texts.len() - 1
+            });
+            let label = words.first().filter(|w| w.letter == 'N').and_then(|w| w.number.parse().ok());
+            programs.last_mut().expect("the main program").blocks.push(Block { line, label, flow, text });
+        }
+    }
+    for p in &programs[1..] {
+        if !p.blocks.iter().any(|b| matches!(b.flow, Flow::Return { .. })) {
+            return Err(error(p.line, 1, format!("subprogram O{:04} has no M99 to return", p.number.unwrap_or(0))));
+        }
+    }
+    Ok(programs)
+}
+
+/// A subprogram's `O` line: its number, alone in its block.
+fn header(o: &Word, words: &[Word], line: usize, programs: &[Program]) -> Result<Program, ReadError> {
+    let number = o.value().filter(|v| (1.0..=9999.0).contains(v) && v.fract() == 0.0);
+    let Some(number) = number.map(|v| v as u32) else {
+        return Err(error(line, o.start + 1, format!("O{} is not a program number O0001–O9999", o.number)));
+    };
+    if let Some(w) = words.get(1) {
+        return Err(error(line, w.start + 1, format!("a program number O{number:04} takes a block of its own")));
+    }
+    if programs.iter().any(|p| p.number == Some(number)) {
+        return Err(error(line, o.start + 1, format!("program O{number:04} is written twice in this file")));
+    }
+    Ok(Program { number: Some(number), line, blocks: Vec::new() })
+}
+
+/// What a block's M98 or M99 asks, with its words checked.
+fn flow(words: &[Word], line: usize) -> Result<Flow, ReadError> {
+    let at = |w: &Word, m: String| error(line, w.start + 1, m);
+    let call = words.iter().find(|w| w.is('M', 98));
+    let ret = words.iter().find(|w| w.is('M', 99));
+    let p = words.iter().find(|w| w.letter == 'P');
+    match (call, ret) {
+        (Some(_), Some(m)) => Err(at(m, "M98 and M99 in one block".into())),
+        (Some(m), None) => {
+            if let Some(q) = words.iter().find(|w| w.letter == 'Q') {
+                return Err(at(q, "M98 … Q (start at a sequence number of the subprogram) is not read".into()));
+            }
+            let Some(p) = p else { return Err(at(m, "M98 without P, the program it calls".into())) };
+            let l = words.iter().find(|w| w.letter == 'L');
+            call_of(p, l).map_err(|message| at(p, message))
+        }
+        (None, Some(m)) => match p {
+            None => Ok(Flow::Return { to: None, column: m.start + 1 }),
+            Some(p) => match p.value().filter(|v| v.fract() == 0.0 && (0.0..=99999.0).contains(v)) {
+                Some(v) => Ok(Flow::Return { to: Some(v as u32), column: m.start + 1 }),
+                None => Err(at(p, format!("M99 P{}: P is not a sequence number N0–N99999", p.number))),
+            },
+        },
+        (None, None) => Ok(Flow::Plain),
+    }
+}
+
+/// `M98 P1002 L5` or the packed `M98 P51002`: the program and how many times.
+fn call_of(p: &Word, l: Option<&Word>) -> Result<Flow, String> {
+    let whole = |w: &Word| w.value().filter(|v| v.fract() == 0.0 && *v >= 0.0);
+    let Some(pv) = whole(p) else { return Err(format!("M98 P{}: P is not a program number", p.number)) };
+    if pv > 9_999_999.0 {
+        return Err(format!("M98 P{}: more than 3 digits of count before the 4-digit program number", p.number));
+    }
+    let (program, packed) = ((pv as u32) % 10_000, (pv as u32) / 10_000);
+    let repeats = match l {
+        None => packed.max(1),
+        Some(_) if packed > 0 => return Err(format!("M98 P{}: a count in P and an L as well", p.number)),
+        Some(l) => match whole(l).filter(|v| (1.0..=MAX_REPEATS as f64).contains(v)) {
+            Some(v) => v as u32,
+            None => return Err(format!("M98 … L{}: a call repeats 1 to {MAX_REPEATS} times", l.number)),
+        },
+    };
+    if program == 0 {
+        return Err(format!("M98 P{}: O0000 is not a program number", p.number));
+    }
+    Ok(Flow::Call { program, repeats, column: p.start + 1 })
+}
+
+/// The block with its M98/M99 and their P, L words blanked (columns kept); `None` when
+/// nothing but an N number is left.
+fn without_flow_words(raw: &str, words: &[Word]) -> Option<String> {
+    let mut chars: Vec<char> = raw.chars().collect();
+    let flow_word = |w: &Word| w.is('M', 98) || w.is('M', 99) || matches!(w.letter, 'P' | 'L');
+    for w in words.iter().filter(|w| flow_word(w)) {
+        chars[w.start..w.end].iter_mut().for_each(|c| *c = ' ');
+    }
+    let left: Vec<Word> = words.iter().filter(|w| !flow_word(w) && w.letter != 'N').cloned().collect();
+    (!left.is_empty() || has_comment(raw)).then(|| chars.into_iter().collect())
+}
+
+fn has_comment(raw: &str) -> bool {
+    raw.contains('(')
+}
+
+/// The address words of a block, outside `( … )` comments: a letter, spaces, then a signed
+/// number. Anything else is left for the reader, which names it.
+fn words(raw: &str) -> Vec<Word> {
+    let chars: Vec<char> = raw.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c == '(' {
+            i += chars[i..].iter().position(|&c| c == ')').unwrap_or(chars.len() - i) + 1;
+            continue;
+        }
+        if !c.is_ascii_alphabetic() {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        i += 1;
+        while chars.get(i) == Some(&' ') {
+            i += 1;
+        }
+        let from = i;
+        while i < chars.len() && (chars[i].is_ascii_digit() || "+-.".contains(chars[i])) {
+            i += 1;
+        }
+        let number = chars[from..i].iter().collect();
+        out.push(Word { letter: c.to_ascii_uppercase(), number, start, end: i });
+    }
+    out
+}
+
+/// The calls being run, and the budgets they spend.
+struct Run<'a> {
+    programs: &'a [Program],
+    texts: &'a [(String, usize)],
+    order: Vec<usize>,
+    steps_left: usize,
+    bytes_left: usize,
+}
+
+impl Run<'_> {
+    fn main(&mut self) -> Result<(), ReadError> {
+        self.program(0, 0).map(|_| ())
+    }
+
+    /// Runs program `index` at nesting `depth` (0 the main program) from its first block;
+    /// returns the sequence number an `M99 P` names, if any.
+    fn program(&mut self, index: usize, depth: usize) -> Result<Option<u32>, ReadError> {
+        let programs = self.programs;
+        let blocks = &programs[index].blocks;
+        let mut at = 0;
+        while let Some(block) = blocks.get(at) {
+            self.spend(block)?;
+            if let Some(t) = block.text {
+                self.order.push(t);
+            }
+            at += 1;
+            match block.flow {
+                Flow::Plain => {}
+                Flow::Return { to, column } => {
+                    if depth == 0 {
+                        return Err(error(
+                            block.line,
+                            column,
+                            "M99 in the main program runs it again from its start, without end: end it with M30",
+                        ));
+                    }
+                    return Ok(to);
+                }
+                Flow::Call { program, repeats, column } => {
+                    if let Some(to) = self.call(block, program, repeats, column, depth)? {
+                        at = self.sequence(blocks, to, block)?;
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Runs one M98 block's calls; the sequence number to go on at, when the subprogram's
+    /// M99 names one.
+    fn call(
+        &mut self,
+        block: &Block,
+        number: u32,
+        repeats: u32,
+        column: usize,
+        depth: usize,
+    ) -> Result<Option<u32>, ReadError> {
+        let Some(index) = self.programs.iter().position(|p| p.number == Some(number)) else {
+            return Err(error(
+                block.line,
+                column,
+                format!("M98 calls O{number:04}, which this file does not hold (alarm 078)"),
+            ));
+        };
+        if depth + 1 > MAX_NESTING {
+            return Err(error(
+                block.line,
+                column,
+                format!("subprogram calls nest more than {MAX_NESTING} levels (M98 calling O{number:04})"),
+            ));
+        }
+        for _ in 0..repeats {
+            if let Some(to) = self.program(index, depth + 1)? {
+                if repeats > 1 {
+                    return Err(error(
+                        block.line,
+                        column,
+                        format!("O{number:04} returns with M99 P{to} from a call that repeats it {repeats} times: write the call once"),
+                    ));
+                }
+                return Ok(Some(to));
+            }
+        }
+        Ok(None)
+    }
+
+    /// The index of the block `N to` of the calling program, where an `M99 P` goes on.
+    fn sequence(&self, blocks: &[Block], to: u32, call: &Block) -> Result<usize, ReadError> {
+        blocks.iter().position(|b| b.label == Some(to)).ok_or_else(|| {
+            error(call.line, 1, format!("the subprogram this block calls returns to N{to} with M99 P{to}, and this program has no block N{to}"))
+        })
+    }
+
+    /// Counts one block run against the budgets.
+    fn spend(&mut self, block: &Block) -> Result<(), ReadError> {
+        let bytes = block.text.map_or(0, |t| self.texts[t].0.len());
+        if self.steps_left == 0 || self.bytes_left < bytes {
+            return Err(error(
+                block.line,
+                1,
+                format!(
+                    "the program runs more than {MAX_BLOCKS_RUN} blocks or {} MiB of text beyond the ones written (each \
+                     subprogram call and repeat running its blocks again): calls within calls or a loop that never ends \
+                     in practice",
+                    MAX_TEXT_RUN >> 20
+                ),
+            ));
+        }
+        self.steps_left -= 1;
+        self.bytes_left -= bytes;
+        Ok(())
+    }
+}
