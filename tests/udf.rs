@@ -653,3 +653,29 @@ fn module_level_declarations_run_once_per_recalculation_and_each_call_starts_fro
     wb.set_input(0, at("C1"), "=Plus(0)").unwrap();
     assert_eq!(number(&wb, "C1"), 1999.0);
 }
+
+/// A call's first write into a module-level array copies the array (the next call starts
+/// from it as declared), and that copy is counted as any copy on write, a statement per 16
+/// items: 40 cells writing into an array of 160,000 items are 10,000 statements each, so a
+/// recalculation's budget of 100,000 holds at most ten of them and refuses the rest by name, where
+/// every call counted its three statements (2,000 cells over an array of a million items
+/// copied 2 billion items). The cells computed are their argument (worked by hand).
+#[test]
+fn a_call_writing_into_a_module_array_is_charged_its_copy() {
+    let source = "Dim big(1 To 160000) As Double\r\n\
+                  Public Function Fill(x)\r\n    big(1) = x\r\n    Fill = big(1)\r\nEnd Function\r\n";
+    let mut wb = Workbook::with_sheet();
+    let limits = &mut wb.settings_mut().functions;
+    limits.statements_per_recalculation = 100_000;
+    for row in 1..=40 {
+        wb.set_input(0, at(&format!("A{row}")), "=Fill(ROW())").unwrap();
+    }
+    assert!(ncsheet::vba::install_functions(&mut wb, &common::vba::module1(source), RunOptions::default()).is_empty());
+    let computed: Vec<u32> =
+        (1..=40).filter(|&r| wb.value(0, at(&format!("A{r}"))) == Value::Number(f64::from(r))).collect();
+    assert!((5..=10).contains(&computed.len()), "{computed:?}");
+    let notes: Vec<String> = (1..=40).flat_map(|row| wb.notes(0, at(&format!("A{row}")))).collect();
+    let refused = notes.iter().filter(|n| n.contains("Module1.Fill was not called") && n.contains("100000")).count();
+    // The call the budget ran out in stops at its statement: neither computed nor refused unrun.
+    assert!(refused >= 40 - computed.len() - 1, "{notes:#?}");
+}

@@ -411,13 +411,20 @@ impl Interp<'_, '_> {
     }
 
     /// What `name(i) = …` copies first when the array's items are shared with another
-    /// variable (`b = a`): the items, charged to the memory budget (copy on write).
-    fn copy_if_shared(&self, name: &str) -> u64 {
+    /// variable (`b = a`, or the module's array as a call from a cell found it): the items,
+    /// charged to the memory budget, and counted against the statement limit as any copy is
+    /// ([`Interp::count_copy`]): `b = a: b(1) = i` in a loop copies `a` each turn.
+    fn copy_if_shared(&self, name: &str, span: Span) -> Run<u64> {
+        self.note_item_write(name);
         let shared = |held: &Var| match held {
-            Var::Array(a) if Rc::strong_count(&a.data) > 1 => super::budget::copy_bytes(&a.data),
-            _ => 0,
+            Var::Array(a) if Rc::strong_count(&a.data) > 1 => (a.data.data.len(), super::budget::copy_bytes(&a.data)),
+            _ => (0, 0),
         };
-        self.peek(name, shared).unwrap_or(0)
+        let (items, bytes) = self.peek(name, shared).unwrap_or((0, 0));
+        if items > 0 {
+            self.count_copy(items, span)?;
+        }
+        Ok(bytes)
     }
 
     /// VBA's "Subscript out of range (Error 9)".
@@ -444,7 +451,7 @@ impl Interp<'_, '_> {
             }
             Var::Obj(o) => Some(o),
         };
-        self.charge(self.copy_if_shared(name), span)?;
+        self.charge(self.copy_if_shared(name, span)?, span)?;
         let result = self.with_slot(name, |slot| {
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant | Ty::Object)) {
                 return Err(format!("{}: an array of values cannot hold an object (type mismatch)", slot.name));
@@ -497,7 +504,7 @@ impl Interp<'_, '_> {
             return self.write_range(sheet, Rect::cell(cell), &v);
         }
         // The item's text, and the array's items when it is shared and so copied first.
-        self.charge(self.copy_if_shared(name) + super::budget::value_bytes(&v), span)?;
+        self.charge(self.copy_if_shared(name, span)? + super::budget::value_bytes(&v), span)?;
         let result = self.with_slot(name, |slot| {
             let own = slot.name.clone();
             let declared = slot.ty.clone();
@@ -560,7 +567,7 @@ impl Interp<'_, '_> {
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
         // The item's own array too: one a call made (`Array(Space(1E6), …)`) was counted nowhere.
         let brought = super::budget::array_brought(&item.data);
-        self.charge(self.copy_if_shared(name) + brought, span)?;
+        self.charge(self.copy_if_shared(name, span)? + brought, span)?;
         let result = self.with_slot(name, |slot| {
             let own = slot.name.clone();
             if matches!(slot.ty, Some(ref t) if !matches!(t, Ty::Variant)) {

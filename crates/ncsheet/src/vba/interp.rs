@@ -1104,6 +1104,28 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// In a call from a cell, keeps module variable `name` before a write to one of its items
+    /// ([`Interp::note_change`]), so that the write sees its items shared with the kept copy
+    /// and counts their copy as any copy on write is counted: each call's first write to a
+    /// module-level array copies it whole, and 2,000 cells writing into an array of a million
+    /// items copied 2 billion items counting one statement a cell.
+    #[inline(never)]
+    pub(super) fn note_item_write(&self, name: &str) {
+        if !self.noting_changes.get() {
+            return;
+        }
+        let frames = self.frames.borrow();
+        if frames.last().is_some_and(|fr| fr.vars.get(name).is_some()) {
+            return;
+        }
+        if frames.last().and_then(|fr| fr.me.as_ref()).is_some_and(|me| me.0.fields.borrow().get(name).is_some()) {
+            return;
+        }
+        let own = self.running_part(&frames);
+        drop(frames);
+        self.note_change(&self.globals.borrow(), own, name);
+    }
+
     /// Declares a variable in the running procedure (or the module, before any runs).
     fn declare(&self, slot: Slot) {
         let mut frames = self.frames.borrow_mut();

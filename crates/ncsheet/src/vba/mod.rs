@@ -897,9 +897,11 @@ pub fn run(
     options: &RunOptions,
 ) -> Result<RunOutput, MacroError> {
     let (module, joined) = parse_joined(source, file_name, workbook, options)?;
+    let module = std::rc::Rc::new(module);
     let own = std::path::Path::new(file_name).file_stem().and_then(|s| s.to_str()).unwrap_or(file_name);
-    udf::install_run_functions(workbook, own, source, options);
     let source = joined.as_deref().unwrap_or(source);
+    // The project parsed once: its Functions callable from cells are this tree's.
+    udf::install_run_functions(workbook, own, (&module, source), options);
     interp::run(&module, workbook, source, file_name, options).map_err(|mut e| {
         relocate(&mut e, &module.parts);
         e

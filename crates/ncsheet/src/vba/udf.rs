@@ -35,7 +35,7 @@ const MAX_BROKEN_MODULES: usize = 8;
 /// The project's standard and class modules parsed once, together, as VBA compiles a project
 /// as one program: each module's Private names its own, the Public ones everybody's.
 struct Program {
-    module: Module,
+    module: Rc<Module>,
     /// The modules' code joined, the first's first (what `module`'s places point into).
     source: String,
     /// The first module's name: the others' places are named by `module.parts`.
@@ -93,47 +93,43 @@ pub fn install_functions(wb: &mut Workbook, project: &VbaProject, options: RunOp
 /// callable from the workbook's cells while it runs, as Excel calls the Functions of the
 /// project a macro is in: `Range("D1").Formula = "=Coalesce(A1, B1)"` computes through the
 /// module's `Coalesce`. A workbook that has functions of its own (an .xlsm's) keeps them; a
-/// project without a public Function installs nothing.
-pub(super) fn install_run_functions(wb: &mut Workbook, own: &str, source: &str, options: &RunOptions) {
+/// project without a public Function installs nothing. `module` is the run's own tree of
+/// the project (`joined`: its source, the macro's module first), not parsed again.
+pub(super) fn install_run_functions(
+    wb: &mut Workbook,
+    own: &str,
+    (module, joined): (&Rc<Module>, &str),
+    options: &RunOptions,
+) {
     if wb.user_functions().is_some() || options.document.is_some() {
         return;
     }
-    let module = |name: &str, source: &str, kind| super::project::ProjectModule {
-        name: name.to_string(),
-        stream: name.to_string(),
-        kind,
-        source: source.to_string(),
+    let program = Program {
+        module: Rc::clone(module),
+        source: joined.to_string(),
+        first: own.to_string(),
+        shared: interp::Shared::new(joined),
     };
-    let mut modules = vec![module(own, source, ModuleKind::Standard)];
-    modules.extend(options.project.iter().map(|(n, s)| module(n, s, ModuleKind::Standard)));
-    modules.extend(options.classes.iter().map(|(n, s)| module(n, s, ModuleKind::Class)));
-    if !modules.iter().any(|m| !m.function_names().is_empty()) {
-        return;
-    }
-    let project = VbaProject { code_page: 65001, modules, protection: None };
-    let (functions, _) = WorkbookFunctions::new(&project, wb, options.clone());
-    if !functions.functions.is_empty() {
-        wb.set_user_functions(Rc::new(functions));
+    let functions = callable_functions(&program);
+    if !functions.is_empty() {
+        wb.set_user_functions(Rc::new(WorkbookFunctions::with(Some(program), functions, wb, options.clone())));
     }
 }
 
 impl WorkbookFunctions {
     pub fn new(project: &VbaProject, wb: &Workbook, options: RunOptions) -> (WorkbookFunctions, Vec<MacroError>) {
+        let (program, errors) = parse_project(&project.modules, wb, &options);
+        let functions = program.as_ref().map(callable_functions).unwrap_or_default();
+        (WorkbookFunctions::with(program, functions, wb, options), errors)
+    }
+
+    /// `functions` of `program` (parsed), called under `options`.
+    fn with(program: Option<Program>, functions: Callable, wb: &Workbook, options: RunOptions) -> WorkbookFunctions {
         // The look is built once here; the options each module keeps need not carry it.
         let looks = RefCell::new(Rc::new(RefCell::new(Looks::new(wb, &options.looks))));
         // A cell's call has no command options to raise its limits: its messages say so.
         let options = RunOptions { looks: Vec::new(), limits_from: super::LimitsFrom::CellFunction, ..options };
-        let (program, errors) = parse_project(&project.modules, wb, &options);
-        let functions = program.as_ref().map(callable_functions).unwrap_or_default();
-        let functions = WorkbookFunctions {
-            program,
-            functions,
-            options,
-            spent: Cell::new(0),
-            began: Cell::new(Instant::now()),
-            looks,
-        };
-        (functions, errors)
+        WorkbookFunctions { program, functions, options, spent: Cell::new(0), began: Cell::new(Instant::now()), looks }
     }
 
     /// The Function a cell's call of `name` means.
@@ -317,7 +313,7 @@ fn parse_program(
     let (module, joined) = super::parse_joined(&first.source, &first.name, wb, &options)?;
     let source = joined.unwrap_or_else(|| first.source.clone());
     let shared = interp::Shared::new(&source);
-    Ok(Program { module, source, first: first.name.clone(), shared })
+    Ok(Program { module: Rc::new(module), source, first: first.name.clone(), shared })
 }
 
 /// Why module `m` was not parsed: `broken` of the project's modules did not parse.
@@ -336,9 +332,12 @@ fn given_up(m: &ProjectModule, broken: usize) -> MacroError {
     }
 }
 
+/// Functions callable from cells, by lower-case name.
+type Callable = std::collections::HashMap<Box<str>, Vec<Function>>;
+
 /// The public Functions of the standard modules of `program`, by lower-case name. Volatile:
 /// the body calls `Application.Volatile` (without `False`).
-fn callable_functions(program: &Program) -> std::collections::HashMap<Box<str>, Vec<Function>> {
+fn callable_functions(program: &Program) -> Callable {
     let module = &program.module;
     let lines: Vec<&str> = program.source.lines().collect();
     let mut starts: Vec<usize> = module.procs.iter().map(|p| p.span.line as usize).collect();
