@@ -233,3 +233,16 @@ fn a_return_without_gosub_is_error_3_that_on_error_traps() {
     );
     assert_eq!(out, ["before", "3 Return without GoSub"]);
 }
+
+// UBound and LBound of a Variant that holds no array: VBA raises Type mismatch (run-time error
+// 13, "Trappable errors": "Type mismatch"), as it does for indexing such a Variant; an array
+// without bounds yet is "Subscript out of range" (9, "UBound function"). Error 5 ("Invalid
+// procedure call or argument") is for an argument of the right type with a bad value.
+#[test]
+fn ubound_of_a_value_that_is_no_array_is_a_type_mismatch() {
+    let body = "    Dim v, s, d()\n    v = 5: s = \"abc\"\n    On Error Resume Next\n\
+                \x20   n = UBound(v): Debug.Print Err.Number: Err.Clear\n\
+                \x20   n = LBound(s): Debug.Print Err.Number: Err.Clear\n\
+                \x20   n = UBound(d): Debug.Print Err.Number";
+    assert_eq!(printed(body), [" 13 ", " 13 ", " 9 "]);
+}

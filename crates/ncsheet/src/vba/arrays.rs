@@ -673,8 +673,12 @@ impl Interp<'_, '_> {
                 other => ("the value", Some(other)),
             },
         };
+        // A Variant holding no array is VBA's Type mismatch (run-time error 13), as indexing
+        // one is; not error 5, which Microsoft's pages give for a bad argument value.
         let Some(Var::Array(a)) = array else {
-            return Err(self.fault_at(span, format!("{name} is not an array")));
+            let mut f = self.fault_at(span, format!("Type mismatch (run-time error 13): {name} is not an array"));
+            f.code = 13;
+            return Err(f);
         };
         if a.dims == 0 {
             // A dynamic array before its first ReDim has no bounds ("UBound function": error 9).
