@@ -443,6 +443,39 @@ fn active_cell_and_selection_take_an_index_as_their_item() {
     assert_eq!(get(&wb, 0, "B2"), Value::Blank);
 }
 
+// A recorded copy of found rows (`Union` of the cells found, then `a.EntireRow.Copy
+// Destination:=DestSheet.Range(firstAddress)` under On Error Resume Next): "Select works only on
+// the active worksheet ... the Select method will fail unless your procedure activates the
+// worksheet" ("Selecting and Activating Cells"), error 1004, the active sheet unchanged; whole
+// rows of several areas copy as one block, one under another, pasted at the destination
+// ("Range.Copy method"); areas in neither the same columns nor the same rows are Excel's "This
+// action won't work on multiple selections", error 1004.
+#[test]
+fn rows_collected_with_union_copy_as_one_block() {
+    let mut wb = Workbook::with_sheet();
+    wb.add_sheet("Data").unwrap();
+    for (row, v) in [(1, "1"), (2, "5"), (3, "2"), (4, "22"), (5, "2")] {
+        set(&mut wb, 1, &format!("A{row}"), v);
+        set(&mut wb, 1, &format!("B{row}"), &format!("row{row}"));
+    }
+    let out = run(
+        &mut wb,
+        "    Dim u As Range\n\
+         \x20   Set u = Union(Worksheets(\"Data\").Range(\"A3\"), Worksheets(\"Data\").Range(\"A5\"))\n\
+         \x20   On Error Resume Next\n\
+         \x20   u.EntireRow.Select\n\
+         \x20   Debug.Print Err.Number; ActiveSheet.Name\n\
+         \x20   Err.Clear\n\
+         \x20   u.EntireRow.Copy Destination:=Worksheets(\"Sheet1\").Range(\"A2\")\n\
+         \x20   Debug.Print Err.Number\n\
+         \x20   Union(Range(\"A1\"), Range(\"C3\")).Copy Destination:=Range(\"E1\")\n\
+         \x20   Debug.Print Err.Number",
+    );
+    assert_eq!(out, [" 1004 Sheet1", " 0 ", " 1004 "]);
+    let copied: Vec<Value> = ["A2", "B2", "A3", "B3", "A4"].iter().map(|c| get(&wb, 0, c)).collect();
+    assert_eq!(copied, [n(2.0), Value::text("row3"), n(2.0), Value::text("row5"), Value::Blank]);
+}
+
 // "Range.Clear method": "Clears the entire object" (values and formats); "Range.ClearFormats
 // method": "Clears the formatting of the object" (values stay); "Range.ClearContents method"
 // clears the values and keeps the formats.

@@ -222,7 +222,10 @@ fn a_bad_r1c1_formula_is_an_error_naming_the_notation() {
 
 /// `ActiveCell` starts at A1 (a new workbook); `Range.Select` makes the range the selection
 /// and its first cell the active cell; `Activate` of a cell inside the selection moves only
-/// the active cell (Excel's behaviour); `Offset` goes from the active cell.
+/// the active cell (Excel's behaviour); `Offset` goes from the active cell. "Select works only
+/// on the active worksheet ... the Select method will fail unless your procedure activates the
+/// worksheet before using the Select method on a range of cells" ("Selecting and Activating
+/// Cells"): run-time error 1004, the active sheet unchanged, until the sheet is activated.
 #[test]
 fn active_cell_and_selection_follow_select_and_activate() {
     let mut wb = Workbook::with_sheet();
@@ -238,10 +241,15 @@ fn active_cell_and_selection_follow_select_and_activate() {
          \x20   Debug.Print Selection.Address; \" \"; ActiveCell.Address; \" \"; ActiveCell.Value\n\
          \x20   Range(\"E5\").Activate\n\
          \x20   Debug.Print Selection.Address; \" \"; ActiveCell.Address\n\
+         \x20   On Error Resume Next\n\
+         \x20   Worksheets(\"Two\").Range(\"D4\").Select\n\
+         \x20   Debug.Print Err.Number; ActiveSheet.Name; \" \"; ActiveCell.Address\n\
+         \x20   On Error GoTo 0\n\
+         \x20   Worksheets(\"Two\").Activate\n\
          \x20   Worksheets(\"Two\").Range(\"D4\").Select\n\
          \x20   ActiveCell.Value = ActiveSheet.Name",
     );
-    assert_eq!(printed, ["$A$1 1 1", "$B$2:$C$3 $C$3 off", "$E$5 $E$5"]);
+    assert_eq!(printed, ["$A$1 1 1", "$B$2:$C$3 $C$3 off", "$E$5 $E$5", " 1004 Sheet1 $E$5"]);
     assert_eq!(get(&wb, 0, "B2"), n(3.0));
     assert_eq!(get(&wb, 1, "D4"), Value::text("Two"));
 }

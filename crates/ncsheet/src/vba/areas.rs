@@ -151,9 +151,23 @@ impl Interp<'_, '_> {
             }
             "offset" | "entirerow" | "entirecolumn" => self.each_area_range(ctx, sheet, areas, link),
             "delete" => self.delete_areas(ctx, sheet, areas, link),
-            // "Range.Copy method" on areas that are not one block: Excel's "This action won't
-            // work on multiple selections", run-time error 1004.
-            "copy" | "cut" => Err(self.error_1004(
+            "copy" => {
+                self.copy_areas(ctx, sheet, areas, link)?;
+                Ok(Obj::Value(Value::Blank))
+            }
+            // Select works only on the active sheet, of one area or several.
+            "select" | "activate" => {
+                let method = if name == "select" { "Select" } else { "Activate" };
+                self.refuse_hidden(sheet, method, "Range", link.span)?;
+                self.refuse_inactive(sheet, method, link.span)?;
+                Err(self.unsupported(
+                    link.span,
+                    format!("{method} of a Range of several areas: ncsheet's selection is one range; work on each area (For Each a In r.Areas)"),
+                ))
+            }
+            // "Range.Cut method" on several areas: Excel's "This action won't work on multiple
+            // selections", run-time error 1004.
+            "cut" => Err(self.error_1004(
                 link.span,
                 format!(
                     "{} method of Range class failed: this action won't work on multiple selections ({} areas); \

@@ -765,7 +765,9 @@ impl Interp<'_, '_> {
             }
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
             "select" | "activate" => {
-                self.refuse_hidden(sheet, if name == "select" { "Select" } else { "Activate" }, "Range", link.span)?;
+                let method = if name == "select" { "Select" } else { "Activate" };
+                self.refuse_hidden(sheet, method, "Range", link.span)?;
+                self.refuse_inactive(sheet, method, link.span)?;
                 self.select_range(sheet, rect, name == "activate");
                 value(Value::Blank)
             }

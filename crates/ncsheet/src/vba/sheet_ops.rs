@@ -173,6 +173,20 @@ impl Interp<'_, '_> {
         Err(fault)
     }
 
+    /// `r.Select` or `r.Activate` of a range on a sheet other than the active one: "Select
+    /// works only on the active worksheet. If you run your Sub procedure from the module, the
+    /// Select method will fail unless your procedure activates the worksheet before using the
+    /// Select method on a range of cells" ("Selecting and Activating Cells"), run-time error
+    /// 1004, where the other sheet was made active.
+    pub(super) fn refuse_inactive(&self, sheet: SheetId, method: &str, span: Span) -> Run<()> {
+        if sheet == self.active.get() {
+            return Ok(());
+        }
+        let name = self.wb.borrow().sheet_names()[sheet as usize].clone();
+        let why = format!("{method} method of Range class failed: {name} is not the active sheet; activate it first");
+        Err(self.error_1004(span, why))
+    }
+
     /// `ws.Delete` ("Worksheet.Delete method"): the sheet goes, references to it become
     /// `#REF!` (`workbook/delete_sheet.rs`). No dialog asks (a run has no user, as with
     /// `DisplayAlerts = False`), so it returns True, the page's value for "the user chose
@@ -275,6 +289,66 @@ impl Interp<'_, '_> {
             Operand::Ref(to, area) => self.paste((sheet, rect), (to, area), Paste::Inputs, true, link.span),
             _ => Err(self.fault_at(link.span, "Copy: the destination is not a range")),
         }
+    }
+
+    /// `u.Copy Destination:=r` of a Range of several areas ("Range.Copy method"): Excel copies
+    /// areas that share their columns (whole rows collected with Union) or their rows as one
+    /// block, one under another (or side by side) in the sheet's order, and pastes the block
+    /// at the destination; areas sharing neither are its "This action won't work on multiple
+    /// selections", run-time error 1004. Onto the clipboard (no Destination), or onto a block
+    /// overlapping the areas, it is refused by name: ncsheet's clipboard holds one range.
+    #[inline(never)]
+    pub(super) fn copy_areas(&self, ctx: &mut Ctx, sheet: SheetId, areas: &[Rect], link: &Link) -> Run<()> {
+        let first = areas[0];
+        let stacked = areas.iter().all(|a| (a.first.col, a.last.col) == (first.first.col, first.last.col));
+        let side_by_side = areas.iter().all(|a| (a.first.row, a.last.row) == (first.first.row, first.last.row));
+        if !stacked && !side_by_side {
+            let why = format!(
+                "Copy method of Range class failed: this action won't work on multiple selections ({} areas in \
+                 neither the same columns nor the same rows); copy each area (For Each a In r.Areas)",
+                areas.len()
+            );
+            return Err(self.error_1004(link.span, why));
+        }
+        let Some(expr) = argument(link, 0, "destination") else {
+            let why = "Copy of a Range of several areas onto the clipboard: ncsheet's clipboard holds one range; \
+                       give the place (u.Copy Destination:=r)";
+            return Err(self.unsupported(link.span, why));
+        };
+        let Operand::Ref(to, dest) = ctx.operand(expr) else {
+            return Err(self.fault_at(link.span, "Copy: the destination is not a range"));
+        };
+        self.take_pending()?;
+        let mut order = areas.to_vec();
+        order.sort_by_key(|a| if stacked { (a.first.row, a.first.col) } else { (a.first.col, a.first.row) });
+        let (rows, cols) = match stacked {
+            true => (order.iter().map(|a| a.rows()).sum::<u32>(), first.cols()),
+            false => (first.rows(), order.iter().map(|a| a.cols()).sum::<u32>()),
+        };
+        let block = Rect::new(
+            dest.first,
+            Pos::new(dest.first.row.saturating_add(rows - 1), dest.first.col.saturating_add(cols - 1)),
+        );
+        let meets = |a: &Rect| {
+            a.first.row <= block.last.row
+                && block.first.row <= a.last.row
+                && a.first.col <= block.last.col
+                && block.first.col <= a.last.col
+        };
+        if to == sheet && order.iter().any(meets) {
+            let why = "Copy of a Range of several areas onto cells among them: ncsheet pastes such areas one by one; \
+                       copy to a place apart from them";
+            return Err(self.unsupported(link.span, why));
+        }
+        let mut at = dest.first;
+        for a in order {
+            self.paste((sheet, a), (to, Rect::cell(at)), Paste::Inputs, true, link.span)?;
+            match stacked {
+                true => at.row = at.row.saturating_add(a.rows()),
+                false => at.col = at.col.saturating_add(a.cols()),
+            }
+        }
+        Ok(())
     }
 
     /// `r.PasteSpecial Paste:=xlPasteValues` (or `xlPasteAll`, `xlPasteFormulas`): what the
