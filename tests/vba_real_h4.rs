@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::vba::{main_fails, run_main};
+use common::vba::run_main;
 use ncsheet::workbook::Workbook;
 
 // "Decimal data type" and "/ operator" ("Division involves a Decimal and any other data type:
@@ -39,15 +39,12 @@ fn round_of_a_decimal_rounds_its_digits_to_even() {
     assert_eq!(run_main(&mut Workbook::with_sheet(), body), [" 2.34  2.36 -2.34  2.3 "]);
 }
 
-// "Decimal data type": a Decimal holds up to 28 significant digits; ncsheet holds one as the
-// double nearest to it and keeps it exact only while that double gives the digits back, so
-// CDec(1) / 3 (0.3333333333333333333333333333 in VBA) is refused by name, and no On Error
-// handler takes the refusal (a fallback to Doubles would compute other numbers).
+// "Decimal data type": a Decimal holds up to 28 places, so CDec(1) / 3 is
+// 0.3333333333333333333333333333 (Python's decimal: Decimal(1) / Decimal(3) at 28 digits).
 #[test]
-fn a_decimal_of_more_digits_than_kept_is_refused_untrappably() {
-    let body = "    Dim q As Variant\n    On Error Resume Next\n    q = CDec(1) / 3\n    Debug.Print \"went on\"";
-    let message = main_fails(&mut Workbook::with_sheet(), body);
-    assert!(message.contains("more significant digits than ncsheet keeps"), "{message}");
+fn a_decimal_of_more_digits_than_a_double_keeps_them() {
+    let body = "    Dim q As Variant\n    q = CDec(1) / 3\n    Debug.Print q";
+    assert_eq!(run_main(&mut Workbook::with_sheet(), body), [" 0.3333333333333333333333333333 "]);
 }
 
 // "Decimal data type": the range is +/-79,228,162,514,264,337,593,543,950,335; past it an

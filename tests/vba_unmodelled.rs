@@ -69,17 +69,16 @@ fn on_error_does_not_skip_an_argument_or_form_ncsheet_refuses() {
     // method" with Link:=True pastes links to the copied cells; "Range.SpecialCells method"
     // with xlCellTypeConstants (2) gives the constant cells; "Sheets.Add method" with
     // Type:=xlChart (-4109) adds a chart sheet; "Range.TextToColumns method" with
-    // DataType:=xlFixedWidth (2) splits at fixed widths; "CDec function" keeps 28 digits. A
-    // trapped refusal would let the macro go on without the effect (a merge macro under On
-    // Error Resume Next pasted nothing, session 30's r08), so the run stops at the statement:
+    // DataType:=xlFixedWidth (2) splits at fixed widths. A trapped refusal would let the
+    // macro go on without the effect (a merge macro under On Error Resume Next pasted nothing,
+    // session 30's r08), so the run stops at the statement:
     // its line and the column of the refused member, whatever On Error says.
     // (the statement, the member the run stops at, a word of the refusal)
-    let cases: [(&str, &str, &str); 7] = [
+    let cases: [(&str, &str, &str); 6] = [
         ("Range(\"A1\").Copy\n    ActiveSheet.Paste Link:=True", "Paste", "Paste Link:=True"),
         ("Set r = Range(\"A1:B2\").SpecialCells(xlCellTypeConstants)", "SpecialCells", "SpecialCells"),
         ("Sheets.Add Type:=xlChart", "Add", "Sheets.Add"),
         ("Range(\"A1\").TextToColumns DataType:=xlFixedWidth", "TextToColumns", "xlFixedWidth"),
-        ("x = CDec(\"1234567890.1234567890\")", "x", "CDec"),
         // "Range.PasteSpecial method": Operation adds the copied values to the destination's,
         // Transpose:=True turns rows into columns.
         (

@@ -267,9 +267,9 @@ pub trait Host {
         None
     }
 
-    /// `Int` (`floor`) or `Fix` of `value`, the value of `e`, when `e` is a macro's Decimal
-    /// operation whose exact result no double holds but whose whole part one does
-    /// (`Int(CDec(x) * 10 ^ 20 + 0.5)`). Cells have no Decimals: `None`.
+    /// `Int` (`floor`) or `Fix` of `value`, the value of `e`, when it is a macro's Decimal
+    /// whose digits no double gives back (`Int(CDec(x) * 10 ^ 20 + 0.5)`): the nearest double
+    /// to its exact whole part. Cells have no Decimals: `None`.
     fn decimal_whole(&self, _e: &Expr, _value: &Value, _floor: bool) -> Option<f64> {
         None
     }

@@ -410,9 +410,9 @@ pub struct Interp<'m, 'w> {
     /// the address of one that is gone starts with none of them.
     static_owners: RefCell<std::collections::HashMap<usize, std::rc::Weak<super::classes::Object>>>,
     pub(super) pending: RefCell<Option<Fault>>,
-    /// The last Decimal operation whose exact result no double holds
-    /// (`typing/decimal.rs`, [`Interp::decimal_whole`]).
-    pub(super) unheld_decimal: Cell<Option<super::typing::UnheldDecimal>>,
+    /// The Decimals whose digits no double gives back, kept beside their doubles
+    /// (`typing/decimal.rs`).
+    pub(super) decimals: RefCell<super::typing::KeptDecimals>,
     /// An `End` statement ran: every procedure stops.
     pub(super) ended: Cell<bool>,
     pub active: Cell<SheetId>,
@@ -544,7 +544,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             gave: Cell::new(Declared::Variant),
             arg_types: RefCell::new(Vec::new()),
             widened: RefCell::default(),
-            unheld_decimal: Cell::new(None),
+            decimals: RefCell::default(),
             types_known: Default::default(),
             exact: RefCell::default(),
             iif_branch: Cell::new((0, 0, 0)),
@@ -1550,6 +1550,9 @@ impl Interp<'_, '_> {
                 if let Some(k) = slot.exact() {
                     self.with_slot(&caller_var, |s| s.set_exact(k));
                 }
+                if let Some(d) = slot.decimal() {
+                    self.with_slot(&caller_var, |s| s.set_decimal(d));
+                }
             }
         }
         for (index, (array, at)) in items_back {
@@ -1560,6 +1563,7 @@ impl Interp<'_, '_> {
         // A Variant Function assigned a Date returns a Date, assigned an Integer an Integer.
         self.gave.set(frame.vars.get(&p.name).map_or(Declared::Variant, |s| s.holds));
         self.returning_long_long(frame.vars.get(&p.name).and_then(|s| s.exact()));
+        self.returning_decimal(frame.vars.get(&p.name).and_then(|s| s.decimal()));
         Ok((result, frame))
     }
 
@@ -2665,6 +2669,7 @@ impl Interp<'_, '_> {
                 };
                 // A LongLong past 2^53 keeps its integer in the array (`longlong.rs`).
                 self.note_item_long_long(value, &v);
+                self.refuse_kept_decimal(value, &v, "an array item")?;
                 self.set_element_holding(name, index, v, held, span)
             }
             Target::Node(id) if self.is_nested_item(*id) => self.set_nested_item(*id, value, set, span),

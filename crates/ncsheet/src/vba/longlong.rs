@@ -185,6 +185,7 @@ impl Interp<'_, '_> {
     /// its stead; nothing to check below 2^53 or for a LongLong whose double is exact.
     pub(super) fn refuse_long_long_past_double(&self, e: &Expr, var: &Var, place: &str) -> Result<(), Fault> {
         let Var::Value(v @ Value::Number(n)) = var else { return Ok(()) };
+        self.refuse_kept_decimal(e, v, place)?;
         let n = *n;
         if !inexact(n) {
             return Ok(());
@@ -333,6 +334,9 @@ impl Interp<'_, '_> {
         (a, b): (&Expr, &Expr),
         (x, y): (&Value, &Value),
     ) -> Option<std::cmp::Ordering> {
+        if let Some(order) = self.decimal_order((a, b), (x, y)) {
+            return Some(order);
+        }
         let (Value::Number(p), Value::Number(q)) = (x, y) else { return None };
         if !inexact(*p) && !inexact(*q) {
             return None;
@@ -436,6 +440,9 @@ impl Interp<'_, '_> {
     /// variable's type noted as `held`. `false` (nothing done) for any other assignment,
     /// which converts as usual.
     pub(super) fn assign_long_long(&self, name: &str, value: &Expr, v: &Value, held: Declared) -> bool {
+        if held == Declared::Decimal && self.assign_decimal(name, value, v) {
+            return true;
+        }
         let Some(k) = self.kept_long_long(value, v) else { return false };
         self.with_slot(name, |slot| {
             let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
@@ -472,6 +479,8 @@ impl Interp<'_, '_> {
     /// The call keeps its own list until it is bound: an argument that calls a Function
     /// (`F(G(x), y)`) binds G's in between.
     pub(super) fn note_long_long_arg(&self, noted: &mut Vec<(usize, i64)>, index: usize, e: &Expr, v: &Value) {
+        // A Decimal whose digits no double gives back is not passed as its nearest double.
+        self.park_kept_decimal_argument(e, v);
         if let Some(k) = self.kept_long_long(e, v) {
             noted.push((index, k));
         }
@@ -520,6 +529,7 @@ impl Interp<'_, '_> {
 
     /// Before the node `id` gives its value: what an earlier Function gave is not its.
     pub(super) fn forget_given_long_long(&self) {
+        self.returning_decimal(None);
         if self.exact.borrow().gave.is_some() {
             self.exact.borrow_mut().gave = None;
         }
@@ -527,6 +537,7 @@ impl Interp<'_, '_> {
 
     /// After the node `id` gave its value: the LongLong a Function gave, kept for the node.
     pub(super) fn note_node_long_long(&self, id: u32) {
+        self.note_node_decimal(id);
         let mut exact = self.exact.borrow_mut();
         let id = id as usize;
         match exact.gave.take() {

@@ -17,7 +17,7 @@ use super::ast::{Inspect, Node, Ty, DATE_VAR_TYPE, LONG_LONG_END};
 use super::interp::{Fault, Interp};
 
 mod decimal;
-pub(in crate::vba) use decimal::UnheldDecimal;
+pub(in crate::vba) use decimal::{Dec, KeptDecimals};
 
 /// An expression's declared type, as far as the interpreter tells types apart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

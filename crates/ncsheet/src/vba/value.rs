@@ -345,6 +345,9 @@ pub struct Slot {
     /// The LongLong the variable holds, where its double is not exact (past 2^53,
     /// `longlong.rs`); forgotten at any other change of what it holds.
     exact: Option<i64>,
+    /// The Decimal the variable holds, where its double does not give its digits back
+    /// (`typing/decimal.rs`); forgotten at any other change of what it holds.
+    decimal: Option<Box<super::typing::Dec>>,
 }
 
 /// A number no earlier change of a variable was given.
@@ -455,7 +458,18 @@ impl Slot {
     pub fn new(name: Rc<str>, var: Var, ty: Option<Ty>) -> Slot {
         let holds = Declared::Variant;
         let written = next_write();
-        Slot { name, held: Held::Var(var), ty, constant: false, new: None, holds, fixed: false, written, exact: None }
+        Slot {
+            name,
+            held: Held::Var(var),
+            ty,
+            constant: false,
+            new: None,
+            holds,
+            fixed: false,
+            written,
+            exact: None,
+            decimal: None,
+        }
     }
 
     /// What the variable holds.
@@ -471,6 +485,7 @@ impl Slot {
     pub fn var_mut(&mut self) -> &mut Var {
         self.written = next_write();
         self.exact = None;
+        self.decimal = None;
         match &mut self.held {
             Held::Growing(g) => {
                 let var = g.shown.take().unwrap_or_else(|| Var::Value(Value::Text(Rc::from(g.text.as_str()))));
@@ -603,6 +618,16 @@ impl Slot {
     /// Notes the LongLong `k` the variable now holds as its nearest double.
     pub(super) fn set_exact(&mut self, k: i64) {
         self.exact = Some(k);
+    }
+
+    /// The Decimal the variable holds, where its double does not give its digits back.
+    pub(super) fn decimal(&self) -> Option<super::typing::Dec> {
+        self.decimal.as_deref().copied()
+    }
+
+    /// Notes the Decimal `d` the variable now holds as its nearest double.
+    pub(super) fn set_decimal(&mut self, d: super::typing::Dec) {
+        self.decimal = Some(Box::new(d));
     }
 
     /// The number of the last change of what the variable holds (see `written`).

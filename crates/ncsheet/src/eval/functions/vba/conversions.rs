@@ -10,7 +10,7 @@ use crate::eval::dates::{DateTime, VBA_DATE_RANGE};
 use crate::eval::functions::api::{given, Ctx};
 use crate::eval::functions::ValueFn;
 use crate::eval::value::{Value, XlError, XlResult};
-use crate::formula::ast::Expr;
+use crate::formula::ast::{Expr, ExprKind};
 
 use super::strings::{find_from, Searched};
 use super::{invalid_call, invalid_use_of_null, lift_vba, lift_vba_values, vba_text, EVERY, FIRST, NO_NULL};
@@ -558,36 +558,42 @@ pub(super) fn cvar(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// ±79,228,162,514,264,337,593,543,950,335, else Overflow. A number becomes the decimal of its
 /// 15 significant digits, as OLE Automation's VarDecFromR8 converts a Double (`CDec(0.1 +
 /// 0.2)` is 0.3); the macro holds it as the double nearest to it and computes its
-/// operations on its decimal (`vba/typing/decimal.rs`). Text of more significant digits than a
-/// double gives back is refused by name: VBA keeps 28.
+/// operations on its decimal (`vba/typing/decimal.rs`). Text written in the call keeps its
+/// every digit, up to 28 places (`CDec("0.1234567890123456789")`, kept beside its double); any
+/// other text of more significant digits than a double gives back is refused by name.
 ///
 /// A macro's Decimal, Currency or LongLong is a scaled integer already, which CDec keeps digit
 /// for digit ([MS-VBAL] 5.5.1.2.1: a numeric value Let-coerced to a numeric type keeps its value
 /// when the type holds it; only a Double or Single goes through VarDecFromR8's 15 or 7 digits):
 /// `CDec(CDec(10 ^ 13) + CDec(0.74))` is 10000000000000.74, not 10000000000000.7. Where those
-/// digits are more than its double gives back, CDec is refused by name as for such a text.
+/// digits are more than its double gives back, the macro keeps them beside it.
 pub(super) fn cdec(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // 2^96 - 1, the largest Decimal, as the nearest double.
     const DECIMAL_END: f64 = 79_228_162_514_264_337_593_543_950_335.0;
     let fifteen_digits = |n: f64| format!("{n:.14e}").parse().unwrap_or(n);
     let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
     let scaled = args.first().zip(values.first()).and_then(|(e, v)| ctx.macro_long_long_text(e, v));
+    let literal = matches!(args.first().map(|e| &e.kind), Some(ExprKind::Text(_)));
     let raised = Raised::default();
     let result = lift_vba_values(ctx, values, "CDec", NO_NULL, &|v| {
         if let Some(digits) = scaled.as_deref() {
-            return match held_digit_for_digit(digits) {
+            // Digits past what the double gives back are kept beside it (`vba/typing/decimal.rs`).
+            return match held_digit_for_digit(digits).or_else(|| digits.parse().ok()) {
                 Some(n) if n.abs() <= DECIMAL_END => Ok(Value::Number(n)),
-                Some(_) => Err(raised.set(6, "a number past the range of its type")),
-                None => Err(raised.set(
-                    super::errors::NOT_SUPPORTED,
-                    "a number of more significant digits than a Double gives back: ncsheet keeps a Decimal's \
-                     digits only as far as a Double gives them (VBA keeps 28)",
-                )),
+                _ => Err(raised.set(6, "a number past the range of its type")),
             };
         }
         let n = match &v[0] {
             Value::Bool(b) => -f64::from(u8::from(*b)),
             Value::Blank => 0.0,
+            // A text written in the call keeps its every digit (`vba/typing/decimal.rs`).
+            Value::Text(t) if literal && significant_digits(t) > 15 => {
+                return match t.trim().parse::<f64>() {
+                    Ok(n) if n.abs() <= DECIMAL_END => Ok(Value::Number(n)),
+                    Ok(_) => Err(raised.set(6, "a number past the range of its type")),
+                    Err(_) => Err(raised.set(13, "text that is not a number")),
+                };
+            }
             Value::Text(t) if significant_digits(t) > 15 => {
                 return Err(raised.set(
                     super::errors::NOT_SUPPORTED,

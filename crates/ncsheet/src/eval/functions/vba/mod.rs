@@ -707,9 +707,9 @@ fn abs(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(if negated { ctx.macro_negation(&args[0], result) } else { result })
 }
 
-/// "Int, Fix functions": the whole part, of a macro's Decimal too when the operation giving
-/// it has more digits than a double holds (`Int(CDec(10.5) * 10 ^ 20 + 0.5)`: the
-/// Decimal's own digits, [`Ctx::macro_decimal_whole`]).
+/// "Int, Fix functions": the whole part, of a macro's Decimal too when it has more digits
+/// than a double gives back (`Int(CDec(10.5) * 10 ^ 20 + 0.5)`: the Decimal's own digits,
+/// [`Ctx::macro_decimal_whole`]).
 fn int(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     whole_part(ctx, args, "Int", true)
 }
@@ -720,10 +720,6 @@ fn fix(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 
 fn whole_part(ctx: &mut Ctx, args: &[Expr], name: &str, floor: bool) -> XlResult<Value> {
     let f: fn(f64) -> Result<f64, &'static str> = if floor { |x| Ok(x.floor()) } else { |x| Ok(x.trunc()) };
-    // Only an operation can give a Decimal no double holds.
-    if !matches!(args[0].kind, ExprKind::Binary(..) | ExprKind::Paren(_)) {
-        return number_fn(ctx, args, name, FIRST, f);
-    }
     let v = ctx.eval(&args[0]);
     if let Some(n) = ctx.macro_decimal_whole(&args[0], &v, floor) {
         return Ok(Value::Number(n));
@@ -806,14 +802,16 @@ fn round(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
         if digits.trunc() < 0.0 {
             return Err(raised.set(5, "the number of decimal places is below zero"));
         }
+        // A Decimal has at most 28 places, a Currency 4: more leave it as it is.
+        if let Some(t) = exact.as_deref() {
+            let places = digits.trunc().min(f64::from(u32::MAX)) as u32;
+            return Ok(Value::Number(round_decimal_text(t, places).unwrap_or(x)));
+        }
         // Past 22 places (10^22 is the last power of ten a Double holds exactly, so the scaling
         // below would no longer be exact) the place count is out of range: error 5, "Invalid
         // procedure call or argument", as for a negative count, rather than a guessed number.
         if digits.trunc() > 22.0 {
             return Err(raised.set(5, "the number of decimal places is above 22"));
-        }
-        if let Some(rounded) = exact.as_deref().and_then(|t| round_decimal_text(t, digits.trunc() as u32)) {
-            return Ok(Value::Number(rounded));
         }
         let scale = 10f64.powi(digits.trunc() as i32);
         Ok(number_result((x * scale).round_ties_even() / scale))
