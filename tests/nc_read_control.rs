@@ -422,3 +422,77 @@ fn fanuc_repeats_nested_four_deep_stop_at_the_block_budget() {
     assert!(e.message.contains("runs more than 1000000 blocks"), "{e}");
     assert_eq!(e.line, 15, "{e}");
 }
+
+/// A plain-language program with a program section repeat and a subprogram, laid out as the
+/// TNC manuals lay them out (TNC 370 User's Manual §6, "Subprograms and Program Section
+/// Repeats": the subprograms after the main program's M2 block, each `LBL n` … `LBL 0`;
+/// `CALL LBL 1 REP 2` runs the section from `LBL 1` to the call 2 more times, so 3 in all).
+const HEIDENHAIN_LABELS: &str = "0 BEGIN PGM REP MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+5 R0 FMAX M3\n\
+3 LBL 1\n4 L IX+10 R0 F100\n5 L IY+5\n6 CALL LBL 1 REP 2\n7 CALL LBL \"DRILL\"\n8 L Z+50 R0 FMAX M2\n\
+9 LBL \"DRILL\"\n10 L IZ-10 R0 F50\n11 L IZ+10 R0 FMAX\n12 LBL 0\n13 END PGM REP MM\n";
+
+/// The same program written out flat by hand.
+const HEIDENHAIN_FLAT: &str = "0 BEGIN PGM REP MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+5 R0 FMAX M3\n\
+3 L IX+10 R0 F100\n4 L IY+5\n5 L IX+10 R0 F100\n6 L IY+5\n7 L IX+10 R0 F100\n8 L IY+5\n\
+9 L IZ-10 R0 F50\n10 L IZ+10 R0 FMAX\n11 L Z+50 R0 FMAX M2\n12 END PGM REP MM\n";
+
+#[test]
+fn heidenhain_section_repeats_and_subprograms_read_as_the_flat_program() {
+    let heidenhain = ncsheet::nc::by_name("heidenhain").unwrap();
+    let (called, lines) = heidenhain.read(HEIDENHAIN_LABELS, None).unwrap_or_else(|e| panic!("{e}"));
+    let flat = heidenhain.read(HEIDENHAIN_FLAT, None).unwrap().0;
+    assert_eq!(called.blocks, flat.blocks);
+    let points = end_points(&called);
+    assert_eq!(points.len(), 1 + 3 * 2 + 2 + 1, "{points:?}");
+    assert_eq!(points[6], [30.0, 15.0, 5.0]);
+    // Each block keeps the line it was written on: `5 L IY+5` (line 6) runs in each pass.
+    assert_eq!(lines.iter().filter(|&&l| l == 6).count(), 3, "{lines:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let time = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
+        assert_eq!(run.code, 0, "{}", run.stderr);
+        run.stdout.lines().find(|l| l.starts_with("cycle time")).unwrap().to_string()
+    };
+    assert_eq!(time("labels.h", HEIDENHAIN_LABELS), time("flat.h", HEIDENHAIN_FLAT));
+}
+
+/// A call of a label the program lacks, subprograms nested past the manual's 8 levels (a
+/// subprogram calling itself), a block after M2 outside any subprogram and section repeats
+/// within section repeats past the block budget (1000 × 1000 × 1000 passes) are refused at
+/// their line and column.
+#[test]
+fn heidenhain_labels_the_control_would_not_run_are_refused_at_their_line_and_column() {
+    let head = "0 BEGIN PGM E MM\n1 TOOL CALL 1 Z S1000\n2 L X+0 Y+0 Z+5 R0 FMAX M3\n";
+    let cases = [
+        ("3 CALL LBL 5\n4 L Z+50 R0 FMAX M2\n5 END PGM E MM\n", 4, 12, "no LBL 5"),
+        (
+            "3 CALL LBL 1\n4 L Z+50 R0 FMAX M2\n5 LBL 1\n6 CALL LBL 1\n7 LBL 0\n8 END PGM E MM\n",
+            7,
+            12,
+            "more than 8 levels",
+        ),
+        (
+            "3 CALL LBL 1\n4 L Z+50 R0 FMAX M2\n5 L X+1 R0 F100\n6 LBL 1\n7 LBL 0\n8 END PGM E MM\n",
+            6,
+            1,
+            "not in a subprogram",
+        ),
+        (
+            "3 LBL 1\n4 LBL 2\n5 LBL 3\n6 L IX+0.001 R0 F100\n7 CALL LBL 3 REP 1000\n8 CALL LBL 2 REP 1000\n\
+             9 CALL LBL 1 REP 1000\n10 L Z+50 R0 FMAX M2\n11 END PGM E MM\n",
+            0,
+            1,
+            "runs more than 1000000 blocks",
+        ),
+    ];
+    for (tail, line, column, says) in cases {
+        let text = format!("{head}{tail}");
+        let e = ncsheet::nc::by_name("heidenhain").unwrap().read(&text, None).unwrap_err();
+        assert!(e.message.contains(says), "{text}\n{e}");
+        if line > 0 {
+            assert_eq!((e.line, e.column), (line, column), "{text}\n{e}");
+        }
+    }
+}

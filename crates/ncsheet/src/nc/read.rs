@@ -19,6 +19,7 @@ pub mod detect;
 mod fanuc_calls;
 mod flow;
 pub mod heidenhain;
+mod heidenhain_labels;
 mod nc31;
 pub mod parameters;
 mod predefined;

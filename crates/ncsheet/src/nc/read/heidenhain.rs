@@ -64,8 +64,10 @@ pub fn read(text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>
     }
     let mut st = State { decimals: DEFAULT_DECIMALS, ..State::default() };
     let mut last = 0;
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
+    // Labels, subprogram calls and section repeats run as the control runs them.
+    let all: Vec<&str> = text.lines().collect();
+    for i in super::heidenhain_labels::run_order(text)? {
+        let (raw, line) = (all[i], i + 1);
         if raw.trim().is_empty() {
             continue;
         }
