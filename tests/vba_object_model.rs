@@ -350,7 +350,7 @@ fn selection_starts_as_the_range_the_file_saved() {
         let rect = ncsheet::formula::address::parse_rect(selection).unwrap();
         let options = RunOptions {
             active_cells: vec![(sheet.clone(), active)],
-            selections: vec![(sheet, rect)],
+            selections: vec![(sheet, vec![rect])],
             ..RunOptions::default()
         };
         let src =

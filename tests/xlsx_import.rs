@@ -77,6 +77,27 @@ fn num(v: f64) -> Value {
     Value::Number(v)
 }
 
+/// A sheet saved with two areas selected, as Excel writes a Ctrl+click selection
+/// (`<selection activeCell="D4" sqref="A1:B2 D4:E5"/>`, ST_Sqref: references separated by
+/// spaces). "Application.Selection property" returns the selected range, and "Range.Areas
+/// property": "a collection that contains one object for each selected area": a macro starts
+/// with Selection of both areas, 8 cells, its address as Excel prints a union ("Range.Address
+/// property": areas separated by commas), For Each over every cell, area by area; ActiveCell
+/// D4. Selecting a cell makes it the whole selection again.
+#[test]
+fn a_saved_selection_of_two_areas_is_the_macros_selection() {
+    let views = r#"<sheetViews><sheetView workbookViewId="0"><selection activeCell="D4" sqref="A1:B2 D4:E5"/></sheetView></sheetViews>"#;
+    let cells = r#"<row r="1"><c r="A1"><v>1</v></c><c r="B1"><v>2</v></c></row><row r="4"><c r="D4"><v>30</v></c></row><row r="5"><c r="E5"><v>40</v></c></row>"#;
+    let bytes = package_with_parts(&[("Sheet1", cells)], "", views, &[]);
+    let mut doc =
+        ncsheet::document::Document::open(bytes, &ncsheet::document::OpenOptions::named("areas.xlsx")).unwrap();
+    let src = "Sub Main()\n    Dim c, total\n    For Each c In Selection\n        total = total + c.Value\n    Next\n    \
+               Debug.Print Selection.Areas.Count; Selection.Count; Selection.Address; \" \"; ActiveCell.Address; total\n    \
+               Range(\"E5\").Select\n    Debug.Print Selection.Areas.Count; Selection.Address\nEnd Sub\n";
+    let out = doc.run_macro(src, "Module1.bas", ncsheet::vba::RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 2  8 $A$1:$B$2,$D$4:$E$5 $D$4 73 ", " 1 $E$5"]);
+}
+
 #[test]
 fn shared_formulas_move_from_the_cell_that_holds_their_text() {
     // Excel may put the text of a shared formula in a cell that is not the top left of its

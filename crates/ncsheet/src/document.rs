@@ -264,7 +264,7 @@ impl Document {
         let options = RunOptions {
             code_names: sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect(),
             active_cells: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
-            selections: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.selection?))).collect(),
+            selections: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.selection.clone()?))).collect(),
             looks: sheets.map(|(name, s)| (name.clone(), s.look.clone())).collect(),
             ..options
         };

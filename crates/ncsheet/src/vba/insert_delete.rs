@@ -102,6 +102,9 @@ impl Interp<'_, '_> {
         let moved = |rect: Rect| edit.moved_rect(rect).unwrap_or(rect);
         let cursor = (moved(selection), moved(Rect::cell(active)).first);
         self.cursors.borrow_mut().insert(sheet, cursor);
+        if let Some(areas) = self.selected_areas.borrow_mut().get_mut(&sheet) {
+            *areas = areas.iter().map(|&r| moved(r)).collect();
+        }
     }
 
     /// Every Range object the macro holds on `sheet` (in its variables, Static ones, With

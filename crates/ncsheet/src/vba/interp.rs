@@ -77,10 +77,16 @@ pub fn run(
         .iter()
         .filter_map(|(code, sheet)| Some((code.to_ascii_lowercase(), wb.sheet_id(sheet)?)))
         .collect();
-    let cursors = options
+    let saved: Vec<(SheetId, Vec<Rect>, Pos)> = options
         .active_cells
         .iter()
-        .filter_map(|(sheet, pos)| Some((wb.sheet_id(sheet)?, (saved_selection(options, sheet, *pos), *pos))))
+        .filter_map(|(sheet, pos)| Some((wb.sheet_id(sheet)?, saved_selection(options, sheet, *pos), *pos)))
+        .collect();
+    let cursors = saved.iter().map(|(sheet, areas, pos)| (*sheet, (area_of(areas, *pos), *pos))).collect();
+    let selected_areas = saved
+        .into_iter()
+        .filter(|(_, areas, _)| areas.len() > 1)
+        .map(|(sheet, areas, _)| (sheet, areas.into()))
         .collect();
     let entry = entry(module, options).map_err(|m| usage(file, m))?;
     let stem = std::path::Path::new(file).file_stem().and_then(|s| s.to_str()).unwrap_or("MACRO");
@@ -95,6 +101,7 @@ pub fn run(
     it.home = home;
     it.code_sheets = code_sheets;
     *it.cursors.get_mut() = cursors;
+    *it.selected_areas.get_mut() = selected_areas;
     *it.out.get_mut() = RunOutput::new(&stem.to_ascii_uppercase(), options.machine);
     let result = it.start(entry);
     it.flush_line();
@@ -431,6 +438,10 @@ pub struct Interp<'m, 'w> {
     pub code_sheets: Vec<(String, SheetId)>,
     /// Each sheet's selection and active cell, once the file or the macro set one (else A1).
     pub cursors: RefCell<std::collections::HashMap<SheetId, (Rect, Pos)>>,
+    /// A sheet's selection of several areas as the file saved it (`sqref="A1:B2 D4:E5"`),
+    /// until the macro selects on that sheet: `Selection` is then all of them; `cursors`
+    /// holds the area of the active cell.
+    pub(super) selected_areas: RefCell<std::collections::HashMap<SheetId, Rc<[Rect]>>>,
     /// The range the last `Copy` without a destination took, for `PasteSpecial`.
     pub(super) clipboard: RefCell<Option<(SheetId, Rect)>>,
     /// The sheets `ws.Protect` protected in this run (`sheet_ops.rs`).
@@ -527,6 +538,7 @@ impl<'m, 'w> Interp<'m, 'w> {
             home: None,
             code_sheets: Vec::new(),
             cursors: RefCell::new(std::collections::HashMap::new()),
+            selected_areas: RefCell::default(),
             clipboard: RefCell::new(None),
             protections: RefCell::new(std::collections::HashMap::new()),
             sorts: RefCell::new(std::collections::HashMap::new()),
@@ -3335,9 +3347,16 @@ enum Counting {
     LongLong { last: i64, step: i64 },
 }
 
-/// The selection `sheet` starts with: the range the file saved when it holds the active cell
-/// (Excel keeps the active cell inside the selection), else the active cell alone.
-fn saved_selection(options: &RunOptions, sheet: &str, active: Pos) -> Rect {
-    let saved = options.selections.iter().find(|(name, _)| name == sheet).map(|&(_, rect)| rect);
-    saved.filter(|r| r.contains(active)).unwrap_or(Rect::cell(active))
+/// The selection `sheet` starts with, area by area: the ranges the file saved when one holds
+/// the active cell (Excel keeps the active cell inside the selection) and they are no more
+/// than a Range holds ([`super::areas::MAX_AREAS`]), else the active cell alone.
+fn saved_selection(options: &RunOptions, sheet: &str, active: Pos) -> Vec<Rect> {
+    let saved = options.selections.iter().find(|(name, _)| name == sheet).map(|(_, areas)| areas);
+    let fits = |areas: &&Vec<Rect>| areas.len() <= super::areas::MAX_AREAS && areas.iter().any(|r| r.contains(active));
+    saved.filter(fits).cloned().unwrap_or_else(|| vec![Rect::cell(active)])
+}
+
+/// The area of a selection that holds the active cell `active`.
+fn area_of(areas: &[Rect], active: Pos) -> Rect {
+    areas.iter().copied().find(|r| r.contains(active)).unwrap_or(Rect::cell(active))
 }

@@ -476,10 +476,10 @@ pub struct RunOptions {
     /// The active cell of each sheet when the macro starts, by sheet name, as the file saved
     /// it (`ActiveCell`, `Selection`); a sheet not listed starts at A1.
     pub active_cells: Vec<(String, crate::formula::address::Pos)>,
-    /// The selection of each sheet when the macro starts, by sheet name, as the file saved it
-    /// (`Selection` in Excel is that range, `ActiveCell` one cell of it); a sheet not listed
-    /// starts with its active cell selected.
-    pub selections: Vec<(String, crate::formula::address::Rect)>,
+    /// The selection of each sheet when the macro starts, by sheet name, as the file saved it,
+    /// area by area (`Selection` in Excel is that range, of one area or several, `ActiveCell`
+    /// one cell of it); a sheet not listed starts with its active cell selected.
+    pub selections: Vec<(String, Vec<crate::formula::address::Rect>)>,
     /// The project's other standard modules (name, source): the module sees their public
     /// procedures (`Helper`, `Module2.Helper`), constants and variables, as VBA compiles a
     /// project as one program.

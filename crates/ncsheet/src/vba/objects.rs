@@ -218,6 +218,7 @@ impl Interp<'_, '_> {
         let origin = if selection { selected } else { Rect::cell(cell) };
         match &link.args {
             Some(args) if !args.is_empty() => self.cells(ctx, active, origin, link),
+            _ if selection => Ok(self.selection_of(active)),
             _ => Ok(Obj::Range(active, origin)),
         }
     }
@@ -786,6 +787,15 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `Selection` on `sheet`: every area of the selection the file saved until the macro
+    /// selects there ("Range.Areas property"), else the range the cursor holds.
+    pub(super) fn selection_of(&self, sheet: SheetId) -> Obj {
+        match self.selected_areas.borrow().get(&sheet) {
+            Some(areas) => Obj::Areas(sheet, areas.clone()),
+            None => Obj::Range(sheet, self.cursor(sheet).0),
+        }
+    }
+
     /// `r.Select` (and `r.Activate` outside the selection): the range's sheet becomes the
     /// active one, the range its selection and its first cell the active cell. Activating a
     /// cell inside the selection moves only the active cell, as in Excel.
@@ -794,6 +804,10 @@ impl Interp<'_, '_> {
         let (selection, _) = self.cursor(sheet);
         let inside = activate && selection.contains(rect.first) && rect.is_cell();
         let selection = if inside { selection } else { rect };
+        // Activating a cell inside the selection keeps all its areas, as in Excel.
+        if !inside {
+            self.selected_areas.borrow_mut().remove(&sheet);
+        }
         self.cursors.borrow_mut().insert(sheet, (selection, rect.first));
     }
 

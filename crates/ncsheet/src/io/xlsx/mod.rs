@@ -176,9 +176,8 @@ pub struct SheetLayout {
     pub code_name: Option<String>,
     /// The sheet's active cell as the file saved it (for a macro's `ActiveCell`).
     pub active_cell: Option<Pos>,
-    /// The sheet's selection as the file saved it, when it is one rectangle (for a macro's
-    /// `Selection`).
-    pub selection: Option<Rect>,
+    /// The sheet's selection as the file saved it, area by area (for a macro's `Selection`).
+    pub selection: Option<Vec<Rect>>,
     /// Array formulas of the file by anchor: written back over the same area when ncsheet
     /// does not spill them itself (it may lack a function, or the formula is a legacy
     /// Ctrl+Shift+Enter one filling its area with a scalar).

@@ -1187,7 +1187,7 @@ fn sheet_layout(scan: &SheetScan, looks: &[StyleLook]) -> SheetLayout {
     let mut layout = SheetLayout {
         code_name: scan.code_name.clone(),
         active_cell: scan.active_cell,
-        selection: scan.selection,
+        selection: scan.selection.clone(),
         array_formulas: scan.arrays.iter().map(|a| (a.anchor, *a)).collect(),
         ..SheetLayout::default()
     };

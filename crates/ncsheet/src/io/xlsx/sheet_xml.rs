@@ -42,8 +42,9 @@ pub struct SheetScan {
     pub code_name: Option<String>,
     /// The first `<selection activeCell="…">`: where a macro's `ActiveCell` starts.
     pub active_cell: Option<Pos>,
-    /// That selection's `sqref` when it is one rectangle: where a macro's `Selection` starts.
-    pub selection: Option<Rect>,
+    /// That selection's `sqref`, area by area ("A1:B2 D4:E5" is two): where a macro's
+    /// `Selection` starts.
+    pub selection: Option<Vec<Rect>>,
     /// Rows `<row hidden="1">` (0-based).
     pub hidden_rows: Vec<u32>,
     /// Columns `<col min max hidden="1">`: first and last column (0-based).
@@ -315,8 +316,9 @@ impl SheetScanner<'_> {
             b"sheetPr" if opens => self.scan.code_name = tag.attr("codeName").map(xml::unescape),
             b"selection" if opens && self.scan.active_cell.is_none() => {
                 self.scan.active_cell = tag.attr("activeCell").and_then(parse_pos);
-                // "A4:C9"; several areas ("A1 C3") are left to the active cell alone.
-                self.scan.selection = tag.attr("sqref").filter(|r| !r.contains(&b' ')).and_then(parse_rect);
+                // "A4:C9", or several areas "A1:B2 D4:E5" (ST_Sqref, a list of references
+                // separated by spaces); one that does not read leaves the active cell alone.
+                self.scan.selection = tag.attr("sqref").and_then(|r| r.split(|&b| b == b' ').map(parse_rect).collect());
             }
             b"autoFilter" if opens => {
                 self.scan.auto_filter = tag.attr("ref").and_then(parse_rect).map(|r| (r, false));
