@@ -137,6 +137,9 @@ fn split(text: &str, texts: &mut Vec<(String, usize)>) -> Result<Vec<Program>, R
             if let Some(o) = words.first().filter(|w| w.letter == 'O') {
                 let main_started = !programs[0].blocks.is_empty() || programs.len() > 1;
                 if main_started {
+                    if let Some(refusal) = linuxcnc_o_code(&raw, o, line) {
+                        return Err(refusal);
+                    }
                     programs.push(header(o, &words, line, &programs)?);
                     continue;
                 }
@@ -160,6 +163,15 @@ fn split(text: &str, texts: &mut Vec<(String, usize)>) -> Result<Vec<Program>, R
         }
     }
     Ok(programs)
+}
+
+/// A LinuxCNC O-code (`o100 sub`, `O101 while [...]`) in a program read as iso is named as
+/// the block reader names it, not taken for a program number with words after it.
+fn linuxcnc_o_code(raw: &str, o: &Word, line: usize) -> Option<ReadError> {
+    let chars: Vec<char> = raw.chars().collect();
+    let from = o.start + 1 + chars[o.start + 1..].iter().take_while(|&&c| c == ' ').count();
+    let (keyword, end) = super::o_word_keyword(&chars, from)?;
+    Some(error(line, o.start + 1, super::o_word_refused(&chars[o.start..end], keyword)))
 }
 
 /// A subprogram's `O` line: its number, alone in its block.
