@@ -370,17 +370,20 @@ fn fanuc_subprogram_calls_and_repeats_read_as_the_flat_program_and_as_rs274_runs
     }
 }
 
+/// The "cycle time" line `ncsheet nc time` prints for `text` saved as `name` (the extension
+/// picks the dialect).
+fn cycle_time(name: &str, text: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    run.stdout.lines().find(|l| l.starts_with("cycle time")).unwrap().to_string()
+}
+
 #[test]
 fn nc_time_of_fanuc_subprogram_calls_is_the_flat_programs() {
-    let dir = tempfile::tempdir().unwrap();
-    let time = |name: &str, text: &str| {
-        let path = dir.path().join(name);
-        std::fs::write(&path, text).unwrap();
-        let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
-        assert_eq!(run.code, 0, "{}", run.stderr);
-        run.stdout.lines().find(|l| l.starts_with("cycle time")).unwrap().to_string()
-    };
-    assert_eq!(time("calls.nc", FANUC_CALLS), time("flat.nc", FANUC_FLAT));
+    assert_eq!(cycle_time("calls.nc", FANUC_CALLS), cycle_time("flat.nc", FANUC_FLAT));
 }
 
 /// What the manual bounds (a count of 1–999, four levels of nesting) and what the file does
@@ -447,15 +450,7 @@ fn heidenhain_section_repeats_and_subprograms_read_as_the_flat_program() {
     assert_eq!(points[6], [30.0, 15.0, 5.0]);
     // Each block keeps the line it was written on: `5 L IY+5` (line 6) runs in each pass.
     assert_eq!(lines.iter().filter(|&&l| l == 6).count(), 3, "{lines:?}");
-    let dir = tempfile::tempdir().unwrap();
-    let time = |name: &str, text: &str| {
-        let path = dir.path().join(name);
-        std::fs::write(&path, text).unwrap();
-        let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
-        assert_eq!(run.code, 0, "{}", run.stderr);
-        run.stdout.lines().find(|l| l.starts_with("cycle time")).unwrap().to_string()
-    };
-    assert_eq!(time("labels.h", HEIDENHAIN_LABELS), time("flat.h", HEIDENHAIN_FLAT));
+    assert_eq!(cycle_time("labels.h", HEIDENHAIN_LABELS), cycle_time("flat.h", HEIDENHAIN_FLAT));
 }
 
 /// A call of a label the program lacks, subprograms nested past the manual's 8 levels (a
