@@ -481,7 +481,7 @@ fn a_table_a_macro_grew_is_saved_with_its_new_range() {
     let (part, saved, dir) =
         saved_table_part(&data.join("libreoffice/tables.xlsx"), "    Worksheets(\"Parts Data\").Rows(3).Insert");
     assert!(part.contains(r#"displayName="Parts" ref="A1:F7""#) && part.contains("totalsRowCount=\"1\""), "{part}");
-    assert!(part.contains(r#"<tableColumn id="2" name="Qty"/>"#), "{part}");
+    assert!(part.contains(r#"<tableColumn id="2" name="Qty" totalsRowFunction="sum"/>"#), "{part}");
     if let Some(lo) = common::xlsx::libreoffice_recalculated(&saved, dir.path()) {
         let mut zip = zip::ZipArchive::new(std::fs::File::open(lo).unwrap()).unwrap();
         let mut part = String::new();
@@ -492,6 +492,58 @@ fn a_table_a_macro_grew_is_saved_with_its_new_range() {
     let (part, _, _) = saved_table_part(&poi, "    ActiveSheet.ListObjects(1).ListRows.Add.Range(1) = \"Zed\"");
     assert!(part.contains(r#"ref="G1:I5""#) && part.contains(r#"<autoFilter ref="G1:I5"/>"#), "{part}");
     assert!(part.contains("<calculatedColumnFormula>INT(H2/10)</calculatedColumnFormula>"), "{part}");
+}
+
+/// The text of part `name` of the package `file`.
+fn package_part(file: &std::path::Path, name: &str) -> String {
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(file).unwrap()).unwrap();
+    let mut part = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name(name).unwrap(), &mut part).unwrap();
+    part
+}
+
+/// "The names in structured references adjust whenever you add or remove data from the
+/// table" (Microsoft's "Using structured references with Excel tables"): a row of Qty 7 added
+/// by ListRows.Add makes the totals row's SUBTOTAL(109,Parts[Qty]) 17 + 7 = 24 (moved to B7
+/// with the totals row) and Use!A1's SUM(Parts[Qty]) 24, where reading the references as the
+/// ranges they named at load left 17. The saved package keeps the structured spelling, as
+/// Excel stores it (`[@Qty]` as `Parts[[#This Row],[Qty]]`), with the table part's totals row
+/// label and functions, and LibreOffice reading it back computes 24 too.
+#[test]
+fn structured_references_follow_a_table_a_macro_grew() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let body = "    Dim lr As ListRow\n    Set lr = Worksheets(\"Parts Data\").ListObjects(1).ListRows.Add\n    \
+                lr.Range(1) = \"e\": lr.Range(2) = 7: lr.Range(3) = 2\n    \
+                Debug.Print Range(\"B7\").Value; Worksheets(\"Use\").Range(\"A1\").Value; Range(\"B7\").Formula";
+    let (out, _) = printed_on_tables(body);
+    assert_eq!(out, vec![" 24  24 =SUBTOTAL(109,Parts[Qty])"]);
+    let (part, saved, dir) = saved_table_part(&data.join("libreoffice/tables.xlsx"), body);
+    // The totals row's label and functions of the file's table part are kept.
+    assert!(part.contains(r#"name="Part No" totalsRowLabel="Total""#), "{part}");
+    assert!(part.contains(r#"name="Qty" totalsRowFunction="sum""#), "{part}");
+    let sheet = package_part(&saved, "xl/worksheets/sheet1.xml");
+    assert!(sheet.contains("<f>SUBTOTAL(109,Parts[Qty])</f>"), "{sheet}");
+    assert!(sheet.contains("<f>Parts[[#This Row],[Qty]]*Parts[[#This Row],[Unit Price]]</f>"), "{sheet}");
+    if let Some(lo) = common::xlsx::libreoffice_recalculated(&saved, dir.path()) {
+        let sheet = package_part(&lo, "xl/worksheets/sheet1.xml");
+        let b7 = sheet.split("<c r=\"B7\"").nth(1).and_then(|c| c.split("</c>").next()).unwrap_or_default();
+        assert!(b7.contains("<v>24</v>"), "LibreOffice's B7: {b7}");
+    }
+}
+
+/// "Use calculated columns in an Excel table" (Microsoft: a calculated column's formula "is
+/// automatically extended" to the rows added): POI's ExcelTables.xlsx table G1:I4 has the
+/// calculated column AgeGroup, `INT(H2/10)` (its `calculatedColumnFormula`); the row
+/// ListRows.Add makes (row 5) gets `=INT(H5/10)`, which for an Age of 123 is 12.
+#[test]
+fn a_row_added_to_a_table_gets_its_calculated_columns_formula() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/excel-corpus/public/poi/test-data_spreadsheet_ExcelTables.xlsx");
+    let mut wb = ncsheet::io::xlsx::load(&path).unwrap_or_else(|e| panic!("{e}")).workbook;
+    let src = "Sub Main()\n    Dim lr As ListRow\n    Set lr = ActiveSheet.ListObjects(1).ListRows.Add\n    \
+               lr.Range(2) = 123\n    Debug.Print lr.Range(3).Formula; lr.Range(3).Value\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, vec!["=INT(H5/10) 12 "]);
 }
 
 /// "ListRow.Delete method" (the row's cells go, the rows below move up), "ListObject.Resize

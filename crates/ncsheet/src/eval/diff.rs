@@ -108,6 +108,7 @@ impl Differ<'_> {
             | ExprKind::Error(_)
             | ExprKind::Missing
             | ExprKind::Ref(_)
+            | ExprKind::Table(_)
             | ExprKind::Array(_) => num(0.0),
             // `Sheet2!Rate` reads the workbook, not the surface's x and y.
             ExprKind::SheetName(..) => num(0.0),

@@ -54,12 +54,11 @@ pub trait Env {
     /// A defined name visible from `sheet`: its formula and the sheet it is evaluated on.
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)>;
 
-    /// `text` with the structured references in it (`Table1[Qty]`, `Table1[#Totals]`, a
-    /// table's name alone) replaced by the ranges they name, for a formula at `pos` of
-    /// `sheet`; `None` when it names no table this environment knows. INDIRECT reads a
-    /// table reference made at run time through it.
-    fn structured_reference(&self, _text: &str, _sheet: SheetId, _pos: Pos) -> Option<String> {
-        None
+    /// The sheet and cells structured reference `r` names now, for a formula at `pos` of
+    /// `sheet`: `#NAME?` when it names a table or column this environment lacks, `#REF!`
+    /// when no cells of it (`[@Qty]` outside the table's data rows).
+    fn table_part(&self, _r: &TableRef, _sheet: SheetId, _pos: Pos) -> Result<(SheetId, Rect), XlError> {
+        Err(XlError::Name)
     }
 
     /// What the pivot table holding cell `at` of `sheet` shows for `data_field` at the
@@ -885,6 +884,7 @@ impl<'a> Ctx<'a> {
             ExprKind::Binary(BinOp::Range | BinOp::Intersect | BinOp::Union, ..)
             | ExprKind::Name(_)
             | ExprKind::SheetName(..)
+            | ExprKind::Table(_)
             | ExprKind::Host(_) => {
                 let operand = self.operand(e);
                 self.deref(operand)
@@ -1045,6 +1045,10 @@ impl<'a> Ctx<'a> {
                 Err(err) => Operand::Value(Value::Error(err)),
             },
             ExprKind::Paren(inner) => self.operand(inner),
+            ExprKind::Table(r) => match self.env.table_part(r, self.sheet, self.at) {
+                Ok((sheet, rect)) => Operand::Ref(sheet, rect),
+                Err(err) => Operand::Value(Value::Error(err)),
+            },
             ExprKind::Name(name) => self.name_operand(name),
             ExprKind::SheetName(sheet, name) => match sheet {
                 SheetRef::Id(id) => self.defined_name_operand(name, *id),

@@ -8,6 +8,7 @@ use std::rc::Rc;
 use super::address::{Pos, Rect, MAX_COLS, MAX_ROWS};
 
 pub use super::error::XlError;
+pub use super::table_ref::{TableRef, TableRows};
 
 /// Index of a sheet in its workbook.
 pub type SheetId = u16;
@@ -198,6 +199,9 @@ pub enum ExprKind {
     /// An omitted argument, as in `IF(A1,,2)`.
     Missing,
     Ref(Reference),
+    /// A structured reference (`Parts[Qty]`, `[@Qty]`), resolved through the workbook's
+    /// tables when evaluated.
+    Table(Rc<TableRef>),
     /// A defined name or a `LET`/`LAMBDA` variable.
     Name(Rc<str>),
     /// A defined name as seen from a given sheet (`Sheet2!Rate`: the name scoped to Sheet2,

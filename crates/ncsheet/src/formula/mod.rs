@@ -8,6 +8,7 @@ pub mod limits;
 pub(crate) mod locale_syntax;
 pub mod parse;
 pub mod print;
+pub mod table_ref;
 
 pub use address::{Pos, Rect};
 pub use ast::{Expr, ExprKind};

@@ -537,6 +537,7 @@ impl Builder<'_, '_> {
             Rule::error => ExprKind::Error(pair.as_str().parse().expect("grammar lists errors")),
             Rule::boolean => ExprKind::Bool(pair.as_str().eq_ignore_ascii_case("TRUE")),
             Rule::reference => ExprKind::Ref(self.reference(pair)?),
+            Rule::structured => ExprKind::Table(Rc::new(structured(pair)?)),
             Rule::name => ExprKind::Name(strip_future_prefix(pair.as_str()).into()),
             Rule::sheet_name => {
                 let mut parts = pair.into_inner();
@@ -618,9 +619,12 @@ impl Builder<'_, '_> {
                 continue;
             };
             let optional = match inner.as_rule() {
+                // Outside a LAMBDA's parameters, `[Qty]` is a column of the formula's table.
                 Rule::optional_param if !may_be_optional => {
-                    let message = "[…] marks an optional parameter, only in a LAMBDA's parameter list";
-                    return Err(ParseError::at(arg_span.start as usize, message));
+                    let table = super::table_ref::parse_table_ref(None, inner.as_str());
+                    let table = table.expect("a bracketed name is a column");
+                    args.push(Expr::new(ExprKind::Table(Rc::new(table)), arg_span));
+                    continue;
                 }
                 Rule::optional_param => {
                     inner.clone().into_inner().next().map(|n| strip_future_prefix(n.as_str()).to_string())
@@ -889,7 +893,9 @@ fn unescape(pair: &Pair<Rule>) -> String {
 /// that some applications wrote into files.
 fn may_be_reference(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::UnknownCall(..) => true,
+        ExprKind::Ref(_) | ExprKind::Table(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::UnknownCall(..) => {
+            true
+        }
         ExprKind::Error(err) => *err == XlError::Ref,
         ExprKind::Paren(inner) => may_be_reference(inner),
         ExprKind::Unary(op, _) => matches!(op, UnaryOp::Spill | UnaryOp::Implicit),
@@ -918,6 +924,21 @@ fn binary_op(rule: Rule) -> BinOp {
 
 fn unary_op(table: &[(Rule, UnaryOp)], rule: Rule) -> UnaryOp {
     table.iter().find(|(r, _)| *r == rule).map(|(_, op)| *op).unwrap_or_else(|| unreachable!("operator {rule:?}"))
+}
+
+/// A structured reference's table name and bracketed items, read by `table_ref`.
+fn structured(pair: Pair<Rule>) -> Result<super::ast::TableRef, ParseError> {
+    let start = pair.as_span().start();
+    let (mut table, mut items) = (None, "");
+    for part in pair.into_inner() {
+        match part.as_rule() {
+            Rule::table_name => table = Some(part.as_str()),
+            _ => items = part.as_str(),
+        }
+    }
+    super::table_ref::parse_table_ref(table, items).ok_or_else(|| {
+        ParseError::at(start, "not a structured reference: a table's items are #All, #Data, #Headers, #Totals, #This Row and its columns' names")
+    })
 }
 
 #[cfg(test)]
@@ -966,10 +987,12 @@ mod tests {
         let ExprKind::UnknownCall(_, params) = &callee.kind else { panic!("the LAMBDA") };
         assert_eq!(params[0].kind, ExprKind::Name("a".into()));
         assert_eq!(params[1].kind, ExprKind::OptionalParam("b".into()));
-        // `[…]` only in a LAMBDA's parameter list; the calculation is no parameter.
-        for wrong in ["=SUM([b])", "=LAMBDA([b])", "=LAMBDA(a,[b],a)([c])"] {
-            let err = parse(wrong).expect_err(wrong);
-            assert!(err.message.contains("optional parameter"), "{wrong}: {err:?}");
+        // `[…]` is an optional parameter only in a LAMBDA's parameter list (the calculation is
+        // no parameter); elsewhere it is a column of the formula's table (`[b]`).
+        for column in ["=SUM([b])", "=LAMBDA([b])", "=LAMBDA(a,[b],a)([c])"] {
+            let mut tables = 0;
+            parse(column).expect(column).visit(&mut |e| tables += matches!(e.kind, ExprKind::Table(_)) as usize);
+            assert_eq!(tables, 1, "{column}");
         }
         // A space before the second list is the intersection operator, as in Excel.
         assert!(matches!(parse("=F(A1) (A2)").expect("parses").kind, ExprKind::Binary(BinOp::Intersect, ..)));

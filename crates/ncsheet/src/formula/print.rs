@@ -87,6 +87,12 @@ pub trait Spelling {
         OperatorSpelling::Symbol
     }
 
+    /// A structured reference's own row as `[@Qty]` (as typed) rather than
+    /// `[[#This Row],[Qty]]` (as Excel's files store it).
+    fn this_row_as_at(&self) -> bool {
+        true
+    }
+
     /// References in R1C1 style (`R[-1]C2`) instead of A1 style.
     fn r1c1(&self) -> bool {
         false
@@ -179,6 +185,7 @@ impl Printer<'_> {
             ExprKind::Missing => {}
             ExprKind::Ref(r) if self.spelling.r1c1() => write_reference_r1c1(self.out, r, self.sheets),
             ExprKind::Ref(r) => write_reference(self.out, r, self.at, self.sheets),
+            ExprKind::Table(r) => r.write(self.out, self.spelling.this_row_as_at()),
             ExprKind::Name(n) => self.name(n),
             ExprKind::SheetName(sheet, n) => {
                 write_sheet_prefix(self.out, sheet, self.sheets);

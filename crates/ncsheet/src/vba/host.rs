@@ -72,8 +72,13 @@ impl Env for Interp<'_, '_> {
         self.wb.borrow().defined_name(name, sheet)
     }
 
-    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
-        self.wb.borrow().structured_reference(text, sheet, pos)
+    fn table_part(
+        &self,
+        r: &crate::formula::ast::TableRef,
+        sheet: SheetId,
+        pos: Pos,
+    ) -> Result<(SheetId, Rect), crate::formula::ast::XlError> {
+        self.wb.borrow().table_part(r, sheet, pos)
     }
 
     fn spill_rect(&self, sheet: SheetId, pos: Pos) -> Option<Rect> {

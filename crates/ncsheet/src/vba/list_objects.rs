@@ -284,7 +284,9 @@ impl Interp<'_, '_> {
             self.insert_or_delete(ctx, t.sheet, below, true, &shift)?;
         }
         let grown = Rect::new(t.rect.first, Pos::new(t.rect.last.row + 1, t.rect.last.col));
-        self.book_mut()?.set_table_rect(t.id, grown);
+        let mut book = self.book_mut()?;
+        book.set_table_rect(t.id, grown);
+        book.fill_calculated_columns(t.id, at);
         Ok(Obj::Table(TableObj::Row(t.id, position)))
     }
 
@@ -410,6 +412,8 @@ impl Interp<'_, '_> {
             totals_rows: 0,
             columns,
             style: (!style.is_empty()).then_some(style),
+            calculated: Vec::new(),
+            totals: Vec::new(),
             id: 0,
         };
         let added = self.book_mut()?.add_table(table);

@@ -307,8 +307,13 @@ impl Env for Probe<'_> {
         self.wb.defined_name(name, sheet)
     }
 
-    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
-        self.wb.structured_reference(text, sheet, pos)
+    fn table_part(
+        &self,
+        r: &crate::formula::ast::TableRef,
+        sheet: SheetId,
+        pos: Pos,
+    ) -> Result<(SheetId, Rect), crate::formula::ast::XlError> {
+        self.wb.table_part(r, sheet, pos)
     }
 
     fn pivot_data(

@@ -23,6 +23,11 @@ impl Workbook {
                 self.span_precedents(r, (first, last), cell.pos, Reference::resolve, &mut f);
             }
         }
+        for r in formula.tables.iter() {
+            if let Ok((sheet, rect)) = self.table_part(r, cell.sheet, cell.pos) {
+                f(sheet, rect);
+            }
+        }
         let mut seen = Vec::new();
         for (name, seen_from) in formula.names.iter() {
             self.name_precedents(name, seen_from.unwrap_or(cell.sheet), cell.pos, (0, &mut seen), f);
@@ -53,6 +58,11 @@ impl Workbook {
                     f(s, rect);
                 } else if let SheetRef::Span(first, last) = r.sheet {
                     self.span_precedents(r, (first, last), at, Reference::resolve_wrapping, f);
+                }
+            }
+            crate::formula::ast::ExprKind::Table(r) => {
+                if let Ok((s, rect)) = self.table_part(r, name_sheet, at) {
+                    f(s, rect);
                 }
             }
             crate::formula::ast::ExprKind::Name(inner) | crate::formula::ast::ExprKind::UnknownCall(inner, _) => {

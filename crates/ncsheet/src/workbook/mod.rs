@@ -240,8 +240,6 @@ pub struct Workbook {
     names_unlinked: bool,
     /// The workbook's own functions (its VBA Functions), once installed (`udf.rs`).
     user_functions: Option<Rc<dyn UserFunctions>>,
-    /// The reader of structured references the file's format installed (`Table1[Qty]`).
-    tables: Option<Rc<dyn StructuredReferences>>,
     /// The tables (ListObjects) of the workbook, in its file's order (`tables.rs`).
     table_list: Vec<TableShape>,
     /// The pivot tables of the file it was read from, which GETPIVOTDATA reads.
@@ -1304,7 +1302,9 @@ impl Env for Workbook {
     }
 
     fn defined_name(&self, name: &str, sheet: SheetId) -> Option<(Rc<Expr>, SheetId)> {
-        let at = self.name_position(name, Some(sheet)).or_else(|| self.name_position(name, None))?;
+        let Some(at) = self.name_position(name, Some(sheet)).or_else(|| self.name_position(name, None)) else {
+            return self.table_as_name(name);
+        };
         let n = &self.names[at];
         Some((n.expr.clone(), n.scope.unwrap_or(sheet)))
     }
@@ -1401,8 +1401,13 @@ impl Env for Workbook {
         self.call_user(cells, call)
     }
 
-    fn structured_reference(&self, text: &str, sheet: SheetId, pos: Pos) -> Option<String> {
-        self.tables.as_ref()?.resolve(self, text, sheet, pos)
+    fn table_part(
+        &self,
+        r: &crate::formula::ast::TableRef,
+        sheet: SheetId,
+        pos: Pos,
+    ) -> Result<(SheetId, Rect), crate::formula::ast::XlError> {
+        Workbook::table_part(self, r, sheet, pos)
     }
 
     fn pivot_data(
@@ -1434,15 +1439,6 @@ impl Workbook {
     }
 }
 
-/// A workbook's tables as the file that held them describes them (the reader knows their
-/// format and installs them): formulas read at load have their structured references
-/// resolved already; text made at run time (INDIRECT's) is resolved through this.
-pub trait StructuredReferences {
-    /// `text` with its structured references replaced by the ranges they name (A1 text
-    /// with the sheet), for a formula at `pos` of `sheet`; `None` when it names no table.
-    fn resolve(&self, wb: &Workbook, text: &str, sheet: SheetId, pos: Pos) -> Option<String>;
-}
-
 /// A table of the workbook ("ListObject object"): its name, sheet, whole rectangle (header
 /// and totals rows included) and its columns' names.
 #[derive(Clone, Debug, PartialEq)]
@@ -1455,15 +1451,30 @@ pub struct TableShape {
     pub columns: Vec<String>,
     /// Its look (`TableStyleMedium9`), kept when the file is written anew.
     pub style: Option<String>,
+    /// Each calculated column's formula (`calculatedColumnFormula`: the formula its data cells
+    /// share, as a file stores it, read from the first data row), by column name: a row added
+    /// to the table gets it, as Excel fills a calculated column.
+    pub calculated: Vec<(String, String)>,
+    /// The totals row's cell of each column that has one (`totalsRowLabel`,
+    /// `totalsRowFunction`), by column name, kept when the file is written anew.
+    pub totals: Vec<(String, ColumnTotal)>,
     /// The workbook's number for it, which a macro's objects hold (its name may change).
     pub id: u32,
 }
 
+/// What a table's totals row shows under a column.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColumnTotal {
+    /// A text (`Total`).
+    Label(String),
+    /// A function by its name in the file (`sum`, `average`, `count`, `countNums`, `max`,
+    /// `min`, `stdDev`, `var`), which the cell's SUBTOTAL formula computes.
+    Function(String),
+}
+
 impl Workbook {
-    /// Installs the file's tables and the reader of the structured references that name
-    /// them in text made at run time (INDIRECT's).
-    pub fn set_tables(&mut self, reader: Rc<dyn StructuredReferences>, tables: Vec<TableShape>) {
-        self.tables = Some(reader);
+    /// Installs the file's tables, which its formulas' structured references name.
+    pub fn set_tables(&mut self, tables: Vec<TableShape>) {
         self.table_list = tables;
         for (n, t) in self.table_list.iter_mut().enumerate() {
             t.id = n as u32 + 1;

@@ -15,7 +15,7 @@ use std::rc::Rc;
 use crate::eval::functions;
 use crate::eval::functions::Searched;
 use crate::formula::address::{Pos, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference, SheetId, SheetRef};
+use crate::formula::ast::{ArrayLit, Expr, ExprKind, Reference, SheetId, SheetRef, TableRef};
 use crate::formula::parse::ParseError;
 
 use super::graph::FxMap;
@@ -29,6 +29,9 @@ pub struct SharedFormula {
     /// Uses a defined name (its references are looked up when edges are built), as seen from
     /// the given sheet (`None`: the formula's own).
     pub names: Rc<[(Rc<str>, Option<SheetId>)]>,
+    /// The structured references in the tree (`Parts[Qty]`), whose cells are looked up in
+    /// the workbook's tables when edges are built.
+    pub tables: Rc<[Rc<TableRef>]>,
     /// This formula's numbers where they differ from the shared tree's: each number literal
     /// of `expr` (by address) with the value to read instead (see `Ctx::numbers`).
     pub numbers: Box<[(*const Expr, f64)]>,
@@ -81,6 +84,7 @@ impl SharedFormula {
     pub fn new(expr: Expr) -> SharedFormula {
         let mut refs = Vec::new();
         let mut names = Vec::new();
+        let mut tables: Vec<Rc<TableRef>> = Vec::new();
         let mut volatile = false;
         let partly = partly_read_refs(&expr);
         let part_of = |e: &Expr| partly.iter().find(|(p, _)| std::ptr::eq(*p, e)).map_or(Some(Part::Whole), |p| p.1);
@@ -96,10 +100,12 @@ impl SharedFormula {
             ExprKind::UnknownCall(n, _) => names.push((n.clone(), None)),
             // `Sheet2!Rate`: the name as Sheet2 sees it (a missing sheet reads nothing).
             ExprKind::SheetName(SheetRef::Id(sheet), n) => names.push((n.clone(), Some(*sheet))),
+            ExprKind::Table(r) if !tables.contains(r) => tables.push(r.clone()),
             ExprKind::Call(id, _) => volatile |= functions::spec(*id).every_edit,
             _ => {}
         });
-        SharedFormula { expr: Rc::new(expr), refs: refs.into(), names: names.into(), numbers: Box::new([]), volatile }
+        let (refs, names, tables) = (refs.into(), names.into(), tables.into());
+        SharedFormula { expr: Rc::new(expr), refs, names, tables, numbers: Box::new([]), volatile }
     }
 
     /// `pattern`'s formula with `literals` for its numbers, in the order [`Expr::visit`]
@@ -116,6 +122,7 @@ impl SharedFormula {
             expr: pattern.expr.clone(),
             refs: pattern.refs.clone(),
             names: pattern.names.clone(),
+            tables: pattern.tables.clone(),
             numbers: nodes.into_iter().zip(literals.iter().copied()).collect(),
             volatile: pattern.volatile,
         }

@@ -10,9 +10,11 @@
 
 use super::shift::{Axis, SheetEdit};
 use super::{TableShape, Workbook, WorkbookError};
+use std::rc::Rc;
+
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect};
-use crate::formula::ast::SheetId;
+use crate::formula::ast::{Expr, ExprKind, SheetId, Span, TableRef, TableRows, XlError};
 
 /// What an edit does to one table.
 enum TableFate {
@@ -39,6 +41,31 @@ impl Workbook {
         self.table_list.iter().find(|t| t.name.eq_ignore_ascii_case(name))
     }
 
+    /// The sheet and cells structured reference `r` names in the tables as they are now, for
+    /// a formula at `pos` of `sheet`: a reference without a table's name (`[@Qty]`) names the
+    /// table holding `pos`.
+    /// `#NAME?` when it names a table or a column the workbook lacks (as a name that names
+    /// nothing), `#REF!` when it names no cells of the table.
+    pub fn table_part(&self, r: &TableRef, sheet: SheetId, pos: Pos) -> Result<(SheetId, Rect), XlError> {
+        let table = match &r.table {
+            Some(name) => self.table(name),
+            None => self.table_list.iter().find(|t| t.sheet == sheet && t.rect.contains(pos)),
+        };
+        let table = table.ok_or(XlError::Name)?;
+        part_of_table(table, r, pos).map(|rect| (table.sheet, rect))
+    }
+
+    /// A table's name used as a defined name (`ROWS(Parts)`, `VLOOKUP(x,Parts,2)`): its data.
+    pub(super) fn table_as_name(&self, name: &str) -> Option<(Rc<Expr>, SheetId)> {
+        let t = self.table(name)?;
+        let data = TableRef {
+            table: Some(t.name.as_str().into()),
+            rows: TableRows { data: true, ..TableRows::default() },
+            columns: None,
+        };
+        Some((Rc::new(Expr::new(ExprKind::Table(Rc::new(data)), Span::default())), t.sheet))
+    }
+
     /// Gives the table `id` the rectangle `rect` (a macro added a row to it or resized it),
     /// its columns named from its header cells where it gained some.
     pub fn set_table_rect(&mut self, id: u32, rect: Rect) {
@@ -56,6 +83,29 @@ impl Workbook {
         table.columns = columns;
         table.rect = rect;
         self.note_tables_changed();
+        self.recalculate_table_readers();
+    }
+
+    /// Writes the formulas of the calculated columns of table `id` into its data row `row`
+    /// (a row just added: "a formula in a calculated column is extended to the rows added",
+    /// as Excel fills it). A column's formula is read as at the first data row, so its
+    /// relative references move to `row`; one that no longer parses is left out.
+    pub fn fill_calculated_columns(&mut self, id: u32, row: u32) {
+        let Some(t) = self.table_list.iter().find(|t| t.id == id) else { return };
+        let data_top = t.rect.first.row + t.header_rows;
+        let fills: Vec<(Pos, Expr)> = t
+            .calculated
+            .iter()
+            .filter_map(|(name, text)| {
+                let col = t.rect.first.col + column_index(t, name)? as u32;
+                let tree = self.parse_at(text, t.sheet, Pos::new(data_top, col)).ok()?;
+                Some((Pos::new(row, col), tree))
+            })
+            .collect();
+        let sheet = t.sheet;
+        for (pos, tree) in fills {
+            self.set_formula_tree(sheet, pos, tree);
+        }
     }
 
     /// Adds a table (ListObjects.Add) and gives back its id; refused when its name is taken
@@ -74,6 +124,7 @@ impl Workbook {
         let id = table.id;
         self.table_list.push(table);
         self.note_tables_changed();
+        self.recalculate_table_readers();
         Ok(id)
     }
 
@@ -95,6 +146,7 @@ impl Workbook {
             t.name = name.to_string();
         }
         self.note_tables_changed();
+        self.recalculate_table_readers();
         Ok(())
     }
 
@@ -110,6 +162,7 @@ impl Workbook {
     pub fn remove_table(&mut self, id: u32) {
         self.table_list.retain(|t| t.id != id);
         self.note_tables_changed();
+        self.recalculate_table_readers();
     }
 
     /// A new column's name among `columns` ([`unique_column_name`]), for a table a macro makes.
@@ -126,6 +179,28 @@ impl Workbook {
     fn note_tables_changed(&mut self) {
         if let Some(log) = self.changes.as_mut() {
             log.tables = true;
+        }
+    }
+
+    /// The formula cells that may read a table: through a structured reference, or a name
+    /// (a table's name alone is one).
+    fn table_readers(&self) -> Vec<u32> {
+        let reads_tables = |c: &super::Cell| {
+            c.formula != super::NO_FORMULA && {
+                let f = self.formulas.get(c.formula);
+                !f.tables.is_empty() || !f.names.is_empty()
+            }
+        };
+        (0..self.cells.len() as u32).filter(|&id| reads_tables(&self.cells[id as usize])).collect()
+    }
+
+    /// After a table changed shape, name or place: what its structured references read is
+    /// linked again and recomputed, as Excel's references follow their table.
+    fn recalculate_table_readers(&mut self) {
+        let readers = self.table_readers();
+        if !readers.is_empty() {
+            self.rebuild_graph();
+            self.recalculate_from(readers);
         }
     }
 
@@ -177,8 +252,57 @@ impl Workbook {
         }
         if changed {
             self.note_tables_changed();
+            // The edit's recalculation relinks the graph whole (`recalculate_shifted`).
+            self.names_unlinked |= !self.table_readers().is_empty();
         }
     }
+}
+
+/// The cells of table `t` that `r` names for a formula at `pos`: `None` when it names a
+/// column the table lacks, rows it has not (`#Totals` of a table without a totals row), or
+/// its own row outside the table's data rows.
+fn part_of_table(t: &TableShape, r: &TableRef, pos: Pos) -> Result<Rect, XlError> {
+    let (first_col, last_col) = match &r.columns {
+        Some((a, b)) => {
+            let index = |name: &str| column_index(t, name).ok_or(XlError::Name);
+            let (a, b) = (index(a)?, index(b)?);
+            (t.rect.first.col + a.min(b) as u32, t.rect.first.col + a.max(b) as u32)
+        }
+        None => (t.rect.first.col, t.rect.last.col),
+    };
+    let top = t.rect.first.row;
+    let data_top = top + t.header_rows;
+    let data_bottom = t.rect.last.row.checked_sub(t.totals_rows).ok_or(XlError::Ref)?;
+    let (first_row, last_row) = if r.rows.this_row {
+        if pos.row < data_top || pos.row > data_bottom {
+            return Err(XlError::Ref);
+        }
+        (pos.row, pos.row)
+    } else {
+        let mut span: Option<(u32, u32)> = None;
+        let mut take = |a: u32, b: u32| {
+            if a <= b {
+                span = Some(span.map_or((a, b), |(x, y)| (x.min(a), y.max(b))));
+            }
+        };
+        if r.rows.headers && t.header_rows > 0 {
+            take(top, data_top - 1);
+        }
+        if r.rows.data {
+            take(data_top, data_bottom);
+        }
+        if r.rows.totals && t.totals_rows > 0 {
+            take(data_bottom + 1, t.rect.last.row);
+        }
+        span.ok_or(XlError::Ref)?
+    };
+    Ok(Rect::new(Pos::new(first_row, first_col), Pos::new(last_row, last_col)))
+}
+
+/// The index of the column named `name` (case ignored, as Excel's; then spaces around it).
+fn column_index(t: &TableShape, name: &str) -> Option<usize> {
+    let exact = t.columns.iter().position(|c| c.eq_ignore_ascii_case(name));
+    exact.or_else(|| t.columns.iter().position(|c| c.trim().eq_ignore_ascii_case(name.trim())))
 }
 
 /// What `edit` does to table `t` of its sheet, or why Excel refuses it.

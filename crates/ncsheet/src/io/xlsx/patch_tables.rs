@@ -98,6 +98,8 @@ mod tests {
             totals_rows: 1,
             columns: Vec::new(),
             style: None,
+            calculated: Vec::new(),
+            totals: Vec::new(),
             id: 0,
         };
         let out = with_table_ranges(xml, &table);

@@ -152,7 +152,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     pivot::install(&mut imported.workbook, pivots);
     imported.layout.tables = tables.clone();
     if !tables.is_empty() {
-        imported.workbook.set_tables(std::rc::Rc::new(tables::FileTables), tables.clone());
+        imported.workbook.set_tables(tables.clone());
     }
     imported.layout.calculation = package.calculation.clone();
     let links = read_links(&mut package, &mut imported.notes);
@@ -160,10 +160,11 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
     if imported.layout.external_links > 0 {
         imported.layout.links.parts = link_parts(&mut package, &mut imported.notes);
     }
-    let mut book =
-        BookParts { tables, sheet_names: imported.workbook.sheet_names(), links, range_names: HashSet::new() };
+    let mut book = BookParts { tables, links, range_names: HashSet::new() };
     define_names(&mut imported, &package, &sheets, &ids, &book);
     book.range_names = range_names(&imported.workbook);
+    // A table's name alone (`=Parts`) names its data, a range.
+    book.range_names.extend(book.tables.iter().map(|t| t.name.to_lowercase()));
 
     let rich_errors = package.rich_errors().map_err(fail)?;
     let lookups = sheet_xml::CellLookups {
@@ -662,31 +663,19 @@ fn hide_rows(wb: &mut Workbook, package: &mut Package, entry: &SheetEntry, sheet
 }
 
 /// Formula text as stored → as typed: references into linked workbooks become the values
-/// Excel cached, structured references to tables the ranges they name, the file's function
-/// spellings ours.
-fn typed_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
-    let text = match sheet_span::ref_errors_without_sheet(text) {
+/// Excel cached, the file's function spellings ours. Structured references to tables
+/// (`Parts[Qty]`) and 3-D references (`Sheet1:Sheet3!A1`) stay as written: the formula
+/// language reads them.
+fn typed_formula<'t>(text: &'t str, book: &BookParts) -> Cow<'t, str> {
+    match sheet_span::ref_errors_without_sheet(text) {
         Cow::Borrowed(text) => external::resolve_links(text, &book.links),
         Cow::Owned(text) => Cow::Owned(external::resolve_links(&text, &book.links).into_owned()),
-    };
-    match text {
-        Cow::Borrowed(text) => local_formula(text, book, sheet, pos),
-        Cow::Owned(text) => Cow::Owned(local_formula(&text, book, sheet, pos).into_owned()),
     }
 }
 
-/// [`typed_formula`] of a formula that reads only this workbook.
-fn local_formula<'t>(text: &'t str, book: &BookParts, sheet: SheetId, pos: Pos) -> Cow<'t, str> {
-    let name = |s: SheetId| book.sheet_names.get(s as usize).cloned().unwrap_or_default();
-    // A 3-D reference (`Sheet1:Sheet3!A1`) stays as written: the formula language reads it.
-    tables::resolve_structured(text, &book.tables, sheet, pos, &name)
-}
-
-/// What formulas of the file may name besides cells: tables, sheets (by tab order), and
-/// linked workbooks.
+/// What formulas of the file may name besides cells: tables and linked workbooks.
 struct BookParts {
     tables: Vec<Table>,
-    sheet_names: Vec<String>,
     links: Vec<Option<ExternalBook>>,
     /// Defined names (lowercase) that name ranges: formulas using them are candidates for
     /// implicit intersection like those with a range in their text.
@@ -856,7 +845,7 @@ impl<'a> SheetImport<'a> {
             .shared_trees
             .entry(index)
             .or_insert_with(|| {
-                let typed = typed_formula(text, book, sheet, holder);
+                let typed = typed_formula(text, book);
                 imported.workbook.parse_at(&typed, sheet, holder).ok().map(Rc::new)
             })
             .clone();
@@ -894,7 +883,7 @@ impl<'a> SheetImport<'a> {
         let (sheet, wb) = (self.sheet, &mut imported.workbook);
         self.typed.clear();
         self.typed.push('=');
-        let typed = typed_formula(text, self.book, sheet, pos);
+        let typed = typed_formula(text, self.book);
         let rewritten = matches!(typed, Cow::Owned(_));
         self.typed.push_str(&typed);
         if reads_links(text, self.book) {
@@ -916,6 +905,9 @@ impl<'a> SheetImport<'a> {
                 None
             }
             None if add_in && cached.is_some() => Some(add_in_call(text)),
+            None if cached.is_some() && text.contains('[') && missing_table(wb, &self.typed, sheet, pos).is_some() => {
+                missing_table(wb, &self.typed, sheet, pos)
+            }
             None => match wb.set_input_deferred(sheet, pos, &self.typed) {
                 Err(WorkbookError::Parse { error, .. }) => Some(linked_add_in_call(text).unwrap_or(error)),
                 _ => None,
@@ -930,7 +922,9 @@ impl<'a> SheetImport<'a> {
             self.kept_count += 1;
         }
         let references_made = calls_special && makes_references(text);
-        if plain && (self.typed.contains(':') || references_made || self.uses_range_name()) {
+        // A structured reference (`Parts[Qty]`) names a range as `B2:B9` does.
+        let ranges = self.typed.contains(':') || self.typed.contains('[');
+        if plain && (ranges || references_made || self.uses_range_name()) {
             self.legacy_ranges.push((sheet, pos));
         }
         if let Some(value) = cached {
@@ -978,6 +972,24 @@ impl SheetImport<'_> {
         }
         false
     }
+}
+
+/// Why a formula naming a table the file lacks (`SUM(Table1[Qty])`) is not computed, as Excel
+/// repairing such a file drops it; `None` when it names none.
+fn missing_table(wb: &Workbook, typed: &str, sheet: SheetId, pos: Pos) -> Option<ParseError> {
+    let tree = wb.parse_at(typed, sheet, pos).ok()?;
+    let mut missing = None;
+    tree.visit(&mut |e| {
+        if let crate::formula::ast::ExprKind::Table(r) = &e.kind {
+            if let Some(name) = r.table.as_deref().filter(|name| wb.table(name).is_none()) {
+                missing.get_or_insert(ParseError {
+                    offset: e.span.start as usize,
+                    message: format!("table {name} is not in the file"),
+                });
+            }
+        }
+    });
+    missing
 }
 
 /// Whether the formula calls a function of an XLL add-in (`_xll.DSSData(…)`), which only
@@ -1082,7 +1094,7 @@ fn define_names(
             },
         };
         let wb = &mut imported.workbook;
-        let formula = typed_formula(&n.formula, book, scope.unwrap_or(0), Pos::new(0, 0));
+        let formula = typed_formula(&n.formula, book);
         if reads_links(&n.formula, book) {
             let original =
                 LinkedFormula { original: n.formula.trim_start_matches('=').to_string(), ..Default::default() };

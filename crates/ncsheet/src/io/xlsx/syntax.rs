@@ -113,7 +113,10 @@ pub fn whole_intersection(tree: &Expr) -> Option<Expr> {
         return None;
     }
     let mut expr = tree.clone();
-    if !matches!(expr.kind, ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::Paren(_)) {
+    if !matches!(
+        expr.kind,
+        ExprKind::Ref(_) | ExprKind::Table(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::Paren(_)
+    ) {
         let span = expr.span;
         expr = Expr::new(ExprKind::Paren(Box::new(expr)), span);
     }
@@ -158,6 +161,7 @@ pub fn legacy_operand_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -
 fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if operand && !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
+        ExprKind::Table(_) if operand => wrap_implicit(e, changed),
         ExprKind::Binary(op, ..) if operand && is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if operand && names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect_operands(x, wb, sheet, operand, changed),
@@ -188,6 +192,7 @@ fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool
 fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
+        ExprKind::Table(_) => wrap_implicit(e, changed),
         ExprKind::Binary(op, ..) if is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect(x, wb, sheet, changed),
@@ -225,7 +230,7 @@ fn is_reference_op(op: BinOp) -> bool {
 
 fn is_bare_range(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) => true,
+        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Table(_) => true,
         ExprKind::Binary(op, ..) if is_reference_op(*op) => true,
         ExprKind::Paren(x) => is_bare_range(x),
         _ => false,
@@ -237,6 +242,8 @@ fn names_a_range(wb: &Workbook, name: &str, sheet: SheetId) -> bool {
     Env::defined_name(wb, name, sheet).is_some_and(|(expr, _)| match &expr.kind {
         ExprKind::Ref(r) => !matches!(r.shape, RefShape::Cell(_)),
         ExprKind::Binary(op, ..) => is_reference_op(*op),
+        // A table's name alone is its data.
+        ExprKind::Table(_) => true,
         _ => false,
     })
 }
@@ -273,9 +280,12 @@ fn operators_from_file(e: &mut Expr) {
         _ => unreachable!("matched a call above"),
     };
     let arg = match arg.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::Call(..) | ExprKind::UnknownCall(..) | ExprKind::Paren(_) => {
-            arg
-        }
+        ExprKind::Ref(_)
+        | ExprKind::Table(_)
+        | ExprKind::Name(_)
+        | ExprKind::Call(..)
+        | ExprKind::UnknownCall(..)
+        | ExprKind::Paren(_) => arg,
         _ => {
             let span = arg.span;
             Expr::new(ExprKind::Paren(Box::new(arg)), span)
@@ -319,6 +329,10 @@ impl Spelling for FileSpelling {
             self.dynamic.set(true);
             OperatorSpelling::Function("_xlfn.SINGLE")
         }
+    }
+
+    fn this_row_as_at(&self) -> bool {
+        false
     }
 
     fn spill(&self) -> OperatorSpelling {

@@ -5,17 +5,17 @@
 //! written over the table keep their values and looks; a header cell is written as the
 //! text of its column's name, as Excel stores it.
 
-use rust_xlsxwriter::{Table, TableColumn, TableStyle, Worksheet, XlsxError};
+use rust_xlsxwriter::{Table, TableColumn, TableFunction, TableStyle, Worksheet, XlsxError};
 
 use crate::eval::Value;
 use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
-use crate::workbook::{TableShape, Workbook};
+use crate::workbook::{ColumnTotal, TableShape, Workbook};
 
 /// Adds the tables of `sheet` to `ws`.
 pub fn add_tables(ws: &mut Worksheet, wb: &Workbook, sheet: SheetId) -> Result<(), (String, XlsxError)> {
     for t in wb.table_list().iter().filter(|t| t.sheet == sheet) {
-        let columns: Vec<TableColumn> = t.columns.iter().map(|c| TableColumn::new().set_header(c)).collect();
+        let columns: Vec<TableColumn> = t.columns.iter().map(|c| table_column(t, c)).collect();
         let mut table = Table::new()
             .set_name(&t.name)
             .set_header_row(t.header_rows > 0)
@@ -30,6 +30,36 @@ pub fn add_tables(ws: &mut Worksheet, wb: &Workbook, sheet: SheetId) -> Result<(
             .map_err(|e| (format!("table {}", t.name), e))?;
     }
     Ok(())
+}
+
+/// Column `name` of table `t`, with its totals row's label or function (`totalsRowLabel`,
+/// `totalsRowFunction`) as the file read had it.
+fn table_column(t: &TableShape, name: &str) -> TableColumn {
+    let column = TableColumn::new().set_header(name);
+    match t.totals.iter().find(|(c, _)| c == name).map(|(_, total)| total) {
+        Some(ColumnTotal::Label(label)) => column.set_total_label(label),
+        Some(ColumnTotal::Function(f)) => match total_function(f) {
+            Some(f) => column.set_total_function(f),
+            None => column,
+        },
+        None => column,
+    }
+}
+
+/// rust_xlsxwriter's function of a `totalsRowFunction` (ECMA-376 ST_TotalsRowFunction);
+/// `None` for `custom`, whose formula the totals cell itself keeps.
+fn total_function(name: &str) -> Option<TableFunction> {
+    Some(match name {
+        "sum" => TableFunction::Sum,
+        "average" => TableFunction::Average,
+        "count" => TableFunction::Count,
+        "countNums" => TableFunction::CountNumbers,
+        "max" => TableFunction::Max,
+        "min" => TableFunction::Min,
+        "stdDev" => TableFunction::StdDev,
+        "var" => TableFunction::Var,
+        _ => return None,
+    })
 }
 
 /// The value to write in cell `pos` of `sheet`: a table's header cell holds its column's

@@ -90,9 +90,7 @@ fn a1_reference(ctx: &mut Ctx, text: &str) -> XlResult<(SheetId, Rect)> {
     if let Some(made) = plain_a1_reference(ctx, text) {
         return made;
     }
-    // `Table1[Qty]`, `Table1[#Totals]`: the range the workbook's table names.
-    let resolved = ctx.env.structured_reference(text, ctx.sheet, ctx.at);
-    let text = resolved.as_deref().unwrap_or(text);
+    // `Table1[Qty]`, `Table1[#Totals]` read as a formula's: the cells the table names now.
     let env = ctx.env;
     let sheet_named = |name: &str| sheet_id(env, name);
     let parse = ParseContext { at: ctx.at, functions: &Registry, sheet: &sheet_named };
@@ -152,7 +150,7 @@ fn plain_a1_cell(text: &str) -> Option<Pos> {
 
 fn is_reference(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::SheetName(..) => true,
+        ExprKind::Ref(_) | ExprKind::Name(_) | ExprKind::SheetName(..) | ExprKind::Table(_) => true,
         ExprKind::Binary(BinOp::Range, a, b) => is_reference(a) && is_reference(b),
         _ => false,
     }
