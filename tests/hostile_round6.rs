@@ -156,6 +156,11 @@ fn iterating_cells_are_charged_the_work_they_do() {
     let (rounds, _) = iteration_cut(&wb).expect("the cut is reported");
     assert!((1..=112).contains(&rounds), "{rounds} rounds");
     assert_eq!(common::sheet::get(&wb, "A1"), common::sheet::n(13_950.0 * f64::from(rounds)));
+    let note = wb.problems().into_iter().map(|p| p.message()).find(|m| m.contains("stopped after"));
+    assert!(
+        note.as_deref().is_some_and(|m| m.starts_with("the iteration of this cycle of 1 cell stopped")),
+        "{note:?}"
+    );
 }
 
 /// The budget is the recalculation's, not each cycle's: 400 two-cell cycles (Ak = Bk+1,

@@ -61,11 +61,12 @@ impl Problem {
             ProblemKind::Cycle(cells) => format!("circular reference: {}", cycle_path(cells)),
             ProblemKind::Note { error, message } => format!("{error}: {message}"),
             ProblemKind::IterationCut { cells, rounds, asked, limit } => format!(
-                "the iteration of this cycle of {cells} cells stopped after {rounds} of its {asked} rounds: \
+                "the iteration of this cycle of {cells} {} stopped after {rounds} of its {asked} rounds: \
                  ncsheet's limit of {limit} cell evaluations for the iterating cycles of one recalculation (rounds × \
                  cells, all cycles together, the work inside a cell counted too: {} array items made or read, \
                  or a LAMBDA call, as one evaluation) was reached before no value moved by more than the \
                  maximum change; the values are those of round {rounds}",
+                if *cells == 1 { "cell" } else { "cells" },
                 super::cycles::ITEMS_PER_EVALUATION
             ),
         }
