@@ -1564,3 +1564,43 @@ fn date_value_time_value_and_date_serial_out_of_range() {
     assert_eq!(error_of("DateSerial(9999, 12, 32)"), "5");
     assert_eq!(error_of("DateSerial(9999, 12, 31)"), "0");
 }
+
+// "ByRef argument type mismatch" (Office VBA reference, vblr6.chm1011308): a variable given
+// to a ByRef parameter "must have the precise data type expected in the procedure" — an
+// Integer variable where a Long is expected does not compile, a Variant where an Integer is
+// neither; "you can pass the argument in its own set of parentheses" to have it converted, and
+// the original keeps its value. KB 158472: an item of a Variant array where an Integer is.
+// A compile error is the calling procedure's alone (compiled on demand).
+#[test]
+fn a_variable_of_another_type_given_by_ref_does_not_compile() {
+    let subs = "Sub Inc(ByRef n As Integer)\n    n = n + 1\nEnd Sub\n\
+                Sub Twice(n As Long)\n    n = n * 2\nEnd Sub\n\
+                Sub Bang(s As String)\n    s = s & \"!\"\nEnd Sub\n\
+                Sub Fill(a() As Long)\n    a(1) = 7\nEnd Sub\n\
+                Sub Show(ByVal n As Integer)\n    Debug.Print n\nEnd Sub\n";
+    let mismatch = |body: &str, arg: &str| {
+        let src = format!("{subs}Sub Other()\n    Debug.Print \"other\"\nEnd Sub\nSub Main()\n{body}\nEnd Sub\n");
+        let e = run_with(&src, &RunOptions::default()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Syntax, "{body}: {e}");
+        assert!(e.message.starts_with("ByRef argument type mismatch"), "{body}: {e}");
+        assert!(e.message.contains(arg), "{body}: {e}");
+        assert!(e.output.printed.is_empty(), "{body}: the procedure does not start: {e}");
+        let other = src.replace("Sub Main()", "Sub Main0()").replace("Sub Other()", "Sub Main()");
+        assert_eq!(run(&other).printed, ["other"], "{body}: only the calling procedure fails");
+    };
+    mismatch("    Debug.Print \"start\"\n    Dim l As Long\n    Inc l", "l is a Long");
+    mismatch("    Dim i As Integer\n    Twice i", "i is an Integer");
+    mismatch("    Dim v\n    v = \"a\"\n    Bang v", "v is a Variant");
+    mismatch("    Dim d As Double\n    Call Inc(d)", "d is a Double");
+    mismatch("    Dim d As Double\n    x = 1\n    Inc n:=d", "d is a Double");
+    mismatch("    Dim x(3) As Double\n    Fill x", "x is a Double array");
+    mismatch("    Dim v(3)\n    Inc v(1)", "v(…) is a Variant");
+    // Converted: the variable in its own parentheses, an expression, a literal, a ByVal
+    // parameter; the same type passes the variable itself.
+    let ok = format!(
+        "{subs}Sub Main()\n    Dim l As Long, i As Integer, x(3) As Long, d As Double\n    l = 5\n    Inc (l)\n    \
+         Call Inc((l))\n    Inc l + 0\n    Inc 3\n    d = 2.5\n    Show d\n    Debug.Print l\n    i = 4\n    Inc i\n    \
+         Debug.Print i\n    Fill x\n    Debug.Print x(1)\n    Twice x(1)\n    Debug.Print x(1)\nEnd Sub\n"
+    );
+    assert_eq!(run(&ok).printed, [" 2 ", " 5 ", " 5 ", " 7 ", " 14 "]);
+}

@@ -268,6 +268,7 @@ mod arrays;
 pub mod ast;
 mod binary;
 mod budget;
+mod by_ref;
 mod classes;
 mod collections;
 mod conditional;

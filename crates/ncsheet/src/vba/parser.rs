@@ -323,6 +323,8 @@ pub(super) struct Signature {
     pub(super) part: usize,
     pub(super) public: bool,
     pub(super) property: Option<PropertyKind>,
+    /// How each parameter is passed, for the ByRef check of a call (`by_ref.rs`).
+    pub(super) passing: Vec<super::by_ref::Passing>,
 }
 
 /// What the parser knows while it builds one procedure.
@@ -339,6 +341,8 @@ pub(super) struct Scope {
     pub(super) labels: std::collections::HashSet<String>,
     /// The body's line-number labels so far: (source line, number).
     pub(super) line_numbers: Vec<(u32, u32)>,
+    /// The procedure's parameters and declared variables by lower-case name (`by_ref.rs`).
+    pub(super) declarations: std::collections::HashMap<String, super::by_ref::Declaration>,
 }
 
 pub(super) struct Build<'s> {
@@ -359,7 +363,9 @@ pub(super) struct Build<'s> {
     /// the modules declaring them.
     pub(super) globals: RefCell<std::collections::HashMap<String, Vec<Owner>>>,
     pub(super) scope: RefCell<Scope>,
-    nodes: RefCell<Vec<Node>>,
+    pub(super) nodes: RefCell<Vec<Node>>,
+    /// Each module's variables by its place in `parts` and lower-case name (`by_ref.rs`).
+    pub(super) module_declarations: RefCell<std::collections::HashMap<(usize, String), super::by_ref::Declaration>>,
     /// The modules' `DefLng A-Z` directives (`deftype.rs`), in order.
     pub(super) implicit_types: RefCell<Vec<super::deftype::ImplicitType>>,
     /// The procedure's variables declared by their first use with a Def type (`deftype.rs`).
@@ -391,7 +397,7 @@ pub(super) fn start(pair: &Pair<Rule>) -> usize {
     pair.as_span().start()
 }
 
-fn find<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Option<Pair<'i, Rule>> {
+pub(super) fn find<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Option<Pair<'i, Rule>> {
     kids.iter().find(|p| p.as_rule() == rule).cloned()
 }
 
@@ -399,7 +405,7 @@ fn all<'i>(kids: &[Pair<'i, Rule>], rule: Rule) -> Vec<Pair<'i, Rule>> {
     kids.iter().filter(|p| p.as_rule() == rule).cloned().collect()
 }
 
-fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
+pub(super) fn kids<'i>(pair: &Pair<'i, Rule>) -> Vec<Pair<'i, Rule>> {
     pair.clone().into_inner().collect()
 }
 
@@ -487,6 +493,7 @@ impl<'s> Build<'s> {
             globals: RefCell::new(Default::default()),
             scope: RefCell::new(Scope::default()),
             nodes: RefCell::new(Vec::new()),
+            module_declarations: RefCell::new(Default::default()),
             implicit_types: RefCell::new(Vec::new()),
             implicit_vars: RefCell::new(Vec::new()),
             options: RefCell::new(Vec::new()),
@@ -529,7 +536,8 @@ impl<'s> Build<'s> {
                 .filter(|p| find(&kids(p), Rule::k_optional).is_none() && find(&kids(p), Rule::vexpr).is_none())
                 .count()
                 - usize::from(param_array);
-            procs.push(Signature { name, kind, params: names, required, param_array, part, public, property });
+            let passing = params.iter().map(|p| super::by_ref::passing(p, type_char_ty(&kids(p)))).collect();
+            procs.push(Signature { name, kind, params: names, required, param_array, part, public, property, passing });
         }
         Ok(Build { procs, proc_names, ..b })
     }
@@ -740,6 +748,7 @@ impl<'s> Build<'s> {
             vars: if kind == ProcKind::Function { [name.to_ascii_lowercase()].into() } else { Default::default() },
             labels: Default::default(),
             line_numbers: Vec::new(),
+            declarations: Default::default(),
         };
         let params = match find(&k, Rule::param_list) {
             Some(list) => all(&kids(&list), Rule::param).into_iter().map(|p| self.param(p)).collect::<Res<Vec<_>>>()?,
@@ -778,13 +787,15 @@ impl<'s> Build<'s> {
             .map(|a| self.ty_of(&a))
             .or_else(|| type_char_ty(&k))
             .or_else(|| Some(&name).filter(|_| !param_array).and_then(|n| self.implicit_ty(n)));
+        let array = find(&k, Rule::empty_parens).is_some();
+        self.note_declaration(&name, super::by_ref::Declaration { ty: ty.clone(), array }, false);
         Ok(Param {
             name,
             by_ref,
             optional: find(&k, Rule::k_optional).is_some(),
             default,
             ty,
-            array: find(&k, Rule::empty_parens).is_some(),
+            array,
             param_array: find(&k, Rule::k_paramarray).is_some(),
         })
     }
@@ -993,6 +1004,10 @@ impl<'s> Build<'s> {
             }
             as_clause.as_ref().map(|a| self.fixed_length_allowed(a, true)).transpose()?;
             let ty = as_clause.map(|a| self.ty_of(&a)).or_else(|| type_char_ty(&k)).or_else(|| self.implicit_ty(&name));
+            if pair.as_rule() != Rule::redim_stmt {
+                let declaration = super::by_ref::Declaration { ty: ty.clone(), array: bounds.is_some() };
+                self.note_declaration(&name, declaration, at_module);
+            }
             out.push(VarDecl { name, ty, bounds, new, span: self.span(start(&var)), field: None, item: None });
         }
         for redim in all(&kids(pair), Rule::redim_field) {
@@ -1783,18 +1798,23 @@ impl Build<'_> {
 
     fn ty_of(&self, as_clause: &Pair<Rule>) -> Ty {
         let name = find(&kids(as_clause), Rule::type_name).map(|t| t.as_str().to_string()).unwrap_or_default();
-        let ty = match self.types.borrow().get(&name.to_ascii_lowercase()) {
-            Some(&i) => Ty::Record(i),
-            // An Enum's variables are Longs ([MS-VBAL] 5.2.3.4).
-            None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(&name)) => Ty::Whole(3),
-            // A class module of the project is an object whatever its name looks like
-            // (`XlsWriter` is no Excel enum).
-            None if self.parts.iter().any(|p| p.class && p.name.eq_ignore_ascii_case(&name)) => Ty::Object,
-            None => ty_named(&name.to_ascii_lowercase()),
-        };
-        match (ty, self.fixed_length(as_clause)) {
+        match (self.type_by_name(&name), self.fixed_length(as_clause)) {
             (Ty::String, Some(n)) => Ty::FixedString(n),
             (ty, _) => ty,
+        }
+    }
+
+    /// The type an `As` clause's name stands for: a Type of the module, an Enum, a class
+    /// module, or one of VBA's and its libraries'.
+    pub(super) fn type_by_name(&self, name: &str) -> Ty {
+        match self.types.borrow().get(&name.to_ascii_lowercase()) {
+            Some(&i) => Ty::Record(i),
+            // An Enum's variables are Longs ([MS-VBAL] 5.2.3.4).
+            None if self.enums.iter().any(|(e, _)| e.eq_ignore_ascii_case(name)) => Ty::Whole(3),
+            // A class module of the project is an object whatever its name looks like
+            // (`XlsWriter` is no Excel enum).
+            None if self.parts.iter().any(|p| p.class && p.name.eq_ignore_ascii_case(name)) => Ty::Object,
+            None => ty_named(&name.to_ascii_lowercase()),
         }
     }
 

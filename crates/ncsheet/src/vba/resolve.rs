@@ -1294,6 +1294,7 @@ impl Build<'_> {
         if let Some(missing) = params.iter().take(*required).enumerate().find(|(i, p)| !given(*i, p)) {
             return Err(self.error_at(pair, format!("{name}: argument {} is not optional", missing.1)));
         }
+        self.check_by_ref_args(proc, &args)?;
         let at = start(pair);
         Ok(self.node(Node::Call { proc, args, span: self.span(at) }, at, end))
     }
