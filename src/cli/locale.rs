@@ -111,13 +111,23 @@ pub fn foreign_numbers(wb: &ncsheet::workbook::Workbook) -> Vec<String> {
             out.push(format!(
                 "{} {} #VALUE!: {} holds the text '{text}', a number in {other} but only text in {locale}, the locale \
                  in force; type {meant} there, or choose the locale with --locale",
-                failing.join(", "),
+                cells_named(&failing),
                 if failing.len() == 1 { "is" } else { "are" },
                 wb.cell_name(sheet, pos)
             ));
         }
     }
     out
+}
+
+/// `A1, A2` or, for many cells (a text read by a whole column), the first few and a count:
+/// one line naming 200,000 cells was megabytes.
+fn cells_named(cells: &[String]) -> String {
+    const NAMED: usize = ncsheet::io::notes::LISTED;
+    match cells.len() {
+        n if n <= NAMED => cells.join(", "),
+        n => format!("{} and {} more cells", cells[..NAMED].join(", "), n - NAMED),
+    }
 }
 
 /// For a `#VALUE!` cell, the cells it reads that hold text that is a number in another

@@ -604,15 +604,10 @@ fn functions(args: FunctionsArgs) -> Result<()> {
     Ok(())
 }
 
-/// Prints each problem of the workbook's cells on stderr: `ncsheet: FILE: Sheet1!B2: …`.
+/// Prints the problems of the workbook's cells on stderr: `ncsheet: FILE: Sheet1!B2: …`.
 fn report_problems(file: &Path, wb: &Workbook) {
     let context = format!("ncsheet: {}: ", file.display());
-    for p in wb.problems() {
-        eprintln!("{}", prepend(&context, &report::render(wb, &p)));
-    }
-    for why in locale::foreign_numbers(wb) {
-        eprintln!("{context}{why}");
-    }
+    report::print_capped(&context, wb, wb.problems(), locale::foreign_numbers(wb));
 }
 
 fn in_file(file: &Path, e: Error) -> Error {

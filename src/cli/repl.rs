@@ -204,9 +204,7 @@ impl Session<'_> {
         if let Some(doubt) = super::hints::doubt_about(&self.wb, sheet, pos, &input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", self.file.display(), self.wb.cell_name(sheet, pos));
         }
-        for p in news {
-            eprintln!("{}", prepend(&format!("ncsheet: {}: ", self.file.display()), &report::render(&self.wb, &p)));
-        }
+        report::print_capped(&format!("ncsheet: {}: ", self.file.display()), &self.wb, news, Vec::new());
         Ok(())
     }
 

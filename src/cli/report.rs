@@ -7,7 +7,8 @@
 use std::fmt;
 use std::io;
 
-use ncsheet::workbook::{Problem, Workbook};
+use ncsheet::io::notes::{Capped, MAX_NOTES};
+use ncsheet::workbook::{Problem, ProblemKind, Workbook};
 
 /// Why a command failed.
 #[derive(Debug)]
@@ -101,6 +102,40 @@ fn acted_on(c: char) -> bool {
 /// One problem of a cell for a user: `Sheet1!B2: =1+*2` with a caret line.
 pub fn render(wb: &Workbook, p: &Problem) -> String {
     prepend(&format!("{}: ", wb.cell_name(p.sheet, p.pos)), &p.render())
+}
+
+/// Prints problems on stderr after `context`, then the texts `locale` found read as numbers
+/// of another locale: the first few by cell, the rest counted by kind (the import notes' rule,
+/// `io::notes::Capped`), since a file of 200,000 bad formulas printed 400,000 lines.
+pub fn print_capped(context: &str, wb: &Workbook, problems: Vec<Problem>, foreign_numbers: Vec<String>) {
+    let mut capped = Capped::default();
+    for p in problems {
+        if capped.tell(kind_plural(&p)) {
+            eprintln!("{}", prepend(context, &render(wb, &p)));
+        }
+    }
+    for why in foreign_numbers {
+        if capped.tell("texts read as numbers of another locale") {
+            eprintln!("{}", prepend(context, &why));
+        }
+    }
+    let why = format!("not shown: ncsheet names the first {MAX_NOTES} problems by cell");
+    for more in capped.finish(&why) {
+        eprintln!("{context}{more}");
+    }
+}
+
+/// What many problems of `p`'s kind are, for the count of those not shown.
+pub fn kind_plural(p: &Problem) -> &'static str {
+    match p.kind {
+        ProblemKind::Parse(_) => "formulas that do not parse",
+        ProblemKind::UnknownFunction(_) => "unknown functions",
+        ProblemKind::UnknownName(_) => "unknown names",
+        ProblemKind::MissingSheet(_) => "references to a missing sheet",
+        ProblemKind::Cycle(_) => "circular references",
+        ProblemKind::IterationCut { .. } => "iterations stopped at the limit",
+        ProblemKind::Note { .. } => "error values explained",
+    }
 }
 
 #[cfg(test)]

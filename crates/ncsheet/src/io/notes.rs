@@ -54,6 +54,37 @@ impl Grouped {
     }
 }
 
+/// Lines of several kinds, too many to print (the problems of 200,000 cells were 400,000
+/// lines): the first [`MAX_NOTES`] are told, the rest counted by kind, each kind in one last
+/// line, in the order the kinds first came.
+#[derive(Default)]
+pub struct Capped {
+    told: usize,
+    more: Vec<(&'static str, usize)>,
+}
+
+impl Capped {
+    /// Whether the next line, of kind `what` (a plural: `formulas that do not parse`), is
+    /// told; a line not told is counted under its kind.
+    pub fn tell(&mut self, what: &'static str) -> bool {
+        if self.told < MAX_NOTES {
+            self.told += 1;
+            return true;
+        }
+        match self.more.iter_mut().find(|(kind, _)| *kind == what) {
+            Some((_, n)) => *n += 1,
+            None => self.more.push((what, 1)),
+        }
+        false
+    }
+
+    /// The lines counting what was not told, each saying `why`: `and 199950 more formulas
+    /// that do not parse (why)`.
+    pub fn finish(self, why: &str) -> Vec<String> {
+        self.more.into_iter().map(|(what, n)| format!("and {n} more {what} ({why})")).collect()
+    }
+}
+
 /// One file's notes as the user hears them: each at most [`MAX_NOTE_CHARS`] characters, at
 /// most [`MAX_NOTES`] of them, the last saying how many were not shown.
 pub fn bounded(mut notes: Vec<String>) -> Vec<String> {
@@ -106,6 +137,15 @@ mod tests {
         let out = bounded(vec![long]);
         assert!(out[0].starts_with("start ") && out[0].ends_with(" end"));
         assert!(out[0].chars().count() < MAX_NOTE_CHARS + 60);
+    }
+
+    #[test]
+    fn capped_lines_past_the_first_fifty_are_counted_by_kind() {
+        let mut capped = Capped::default();
+        let kinds = ["a", "b"];
+        let told = (0..MAX_NOTES + 5).filter(|i| capped.tell(kinds[usize::from(*i >= MAX_NOTES + 2)])).count();
+        assert_eq!(told, MAX_NOTES);
+        assert_eq!(capped.finish("not shown"), ["and 2 more a (not shown)", "and 3 more b (not shown)"]);
     }
 
     #[test]
