@@ -303,6 +303,37 @@ fn a_single_is_computed_and_shown_as_a_32_bit_float() {
     );
 }
 
+// [MS-VBAL] 5.5.1.2.4, Let-coercion to String: a Single becomes the text CStr gives it, its
+// seven significant digits ("Single data type"), a Date its date text, a LongLong its every
+// digit. A library function's String parameter ("Replace function": expression, find and
+// replace are Strings; "Left function", "InStr function", "Split function", "StrReverse
+// function"), a String variable, a ByVal String parameter ([MS-VBAL] 5.3.1.11 let-coerces
+// the argument to the parameter's type) and both operands of Like (5.6.9.5.7) take that text.
+// `Replace(Rnd(), ".", "")` names a sheet in a real module: Excel's first Rnd is 0.7055475
+// (KB 231847), the name "07055475", where a Double's 15 digits gave "0705547511577606".
+#[test]
+fn a_single_or_a_date_given_where_a_string_is_wanted_is_the_text_its_type_writes() {
+    let out = printed(
+        "Sub Show(ByVal t As String)\n    Debug.Print \"[\" & t & \"]\";\nEnd Sub\n",
+        "    Dim s As Single, d As Date, k As LongLong, t As String\n    s = 1 / 3: d = #1/2/2024#: k = 9007199254740993^\n\
+         \x20   Debug.Print Replace(Rnd(), \".\", \"\"); \"|\"; Replace(s, \".\", \",\"); \"|\"; Left(s, 20); \"|\"; Mid(s, 2); \"|\"; Right(CSng(2 / 3), 3)\n\
+         \x20   Debug.Print InStrRev(s, \"3\"); StrComp(s, \"0.3333333\"); Split(s, \".\")(1); \"|\"; StrReverse(s); \"|\"; Trim(s); \"|\"; Val(s)\n\
+         \x20   Debug.Print Left(d, 3); \"|\"; Replace(d, \"/\", \"-\"); \"|\"; Left(k, 20); \"|\"; s Like \"0.3333333\"; d Like \"1/2/*\"\n\
+         \x20   t = s: Debug.Print t; \"|\";\n    t = Rnd(): Debug.Print t\n\
+         \x20   Show s: Show d: Show CSng(0.1): Debug.Print",
+    );
+    assert_eq!(
+        out,
+        [
+            "07055475|0,3333333|0.3333333|.3333333|667",
+            " 9  0 3333333|3333333.0|0.3333333| 0.3333333 ",
+            "1/2|1-2-2024|9007199254740993|TrueTrue",
+            "0.3333333|0.533424",
+            "[0.3333333][1/2/2024][0.1]",
+        ]
+    );
+}
+
 // "Currency data type": "64-bit (8-byte) numbers in an integer format, scaled by 10,000 to
 // give a fixed-point number with 15 digits to the left of the decimal point and 4 digits to
 // the right", -922,337,203,685,477.5808 to 922,337,203,685,477.5807; a value assigned to a

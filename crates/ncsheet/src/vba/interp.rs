@@ -1796,6 +1796,7 @@ impl Interp<'_, '_> {
                     None => {
                         // `F(r.Cells(1))` to `s As String`: a cell gives its value, as Let does.
                         let var = self.range_as_declared(var, param.ty.as_ref())?;
+                        let var = self.string_param_text(var, param.ty.as_ref(), argument_type(&types, i));
                         convert(var, param.ty.as_ref(), &param.name).map_err(|m| self.fault(m))?
                     }
                 },
@@ -1820,6 +1821,19 @@ impl Interp<'_, '_> {
                 Ok(())
             }
             _ => Ok(()),
+        }
+    }
+
+    /// `var`, an argument holding a number of the type `held`, as a String parameter takes
+    /// it ([`Interp::held_type_text`]: `Show CSng(1 / 3)` gives `t As String` "0.3333333");
+    /// as it is for any other parameter.
+    #[inline(never)]
+    fn string_param_text(&self, var: Var, ty: Option<&Ty>, held: Declared) -> Var {
+        match (&var, ty) {
+            (Var::Value(Value::Number(n)), Some(Ty::String | Ty::FixedString(_))) => {
+                self.held_type_text(held, *n).map_or(var, |t| Var::Value(Value::text(t)))
+            }
+            _ => var,
         }
     }
 
@@ -2748,7 +2762,6 @@ impl Interp<'_, '_> {
             Var::Value(v @ Value::Number(_)) if !set => self.value_type(value, v),
             _ => Declared::Variant,
         };
-        let date = held == Declared::Date;
         if set && matches!(var, Var::Value(ref v) if !v.is_blank()) {
             return Err(self.fault_at(self.expr_span(value), "Set needs an object (a Range, a Worksheet, …)"));
         }
@@ -2756,14 +2769,9 @@ impl Interp<'_, '_> {
         // IsObject True), where an unassigned Variant is Empty.
         let var = match var {
             Var::Value(Value::Blank) if set => Var::Obj(Obj::Value(Value::Blank)),
-            // A String given a Date holds its text (5.5.1.2.4), not its day count.
-            Var::Value(Value::Number(n))
-                if date
-                    && self.with_slot(name, |s| matches!(s.ty, Some(Ty::String | Ty::FixedString(_))))
-                        == Some(true) =>
-            {
-                Var::Value(Value::text(super::value::date_text(n)))
-            }
+            // A String given a Date, a Single, a LongLong… holds the text its type writes
+            // (5.5.1.2.4), not its day count or a Double's fifteen digits.
+            Var::Value(v @ Value::Number(_)) if written_apart(held) => self.string_var_text(name, value, v),
             other => other,
         };
         // A LongLong past 2^53 keeps its integer ([MS-VBAL] 5.6.9.3, `longlong.rs`).
@@ -2773,6 +2781,18 @@ impl Interp<'_, '_> {
             }
         }
         self.set_var_holding(name, var, held, span)
+    }
+
+    /// The number `v` that `value` gave as the variable `name` takes it: its
+    /// [`Interp::let_text`] for a String variable, as it is for any other.
+    #[inline(never)]
+    fn string_var_text(&self, name: &str, value: &Expr, v: Value) -> Var {
+        let string = |s: &mut Slot| matches!(s.ty, Some(Ty::String | Ty::FixedString(_)));
+        let text = match self.with_slot(name, string) {
+            Some(true) => self.let_text(value, &v),
+            _ => None,
+        };
+        Var::Value(text.map_or(v, Value::text))
     }
 
     fn print(&self, items: &[PrintItem]) -> Run<()> {
@@ -3318,6 +3338,12 @@ fn bound_argument(bound: &mut Vec<(usize, Var)>, i: usize) -> Option<Var> {
     }
     let k = bound.iter().position(|(j, _)| *j == i)?;
     Some(bound.remove(k).1)
+}
+
+/// Whether a number held as `held` is written as a String otherwise than a Double is
+/// ([`Interp::let_text`]).
+fn written_apart(held: Declared) -> bool {
+    matches!(held, Declared::Date | Declared::Single | Declared::Currency | Declared::LongLong | Declared::Decimal)
 }
 
 /// The type the argument of parameter `i` holds (`types` ordered by parameter, as

@@ -206,6 +206,23 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `a Like b` where VBA's differs from the formula's: under `Option Compare Text`, and
+    /// for an operand whose type writes it otherwise than a Double, let-coerced to String as
+    /// its type writes it ([MS-VBAL] 5.6.9.5.7 takes both as Strings, [`Interp::let_text`]:
+    /// `CSng(1 / 3) Like "0.3333333"` is True).
+    #[inline(never)]
+    fn vba_like(&self, (ea, eb): (&Expr, &Expr), (a, b): (&Value, &Value)) -> Option<Result<Value, Fault>> {
+        let (ta, tb) = (self.let_text(ea, a), self.let_text(eb, b));
+        if ta.is_none() && tb.is_none() {
+            return self.text_compare().then(|| Ok(like_ignoring_case(a, b)));
+        }
+        let (a, b) = (ta.map_or_else(|| a.clone(), Value::text), tb.map_or_else(|| b.clone(), Value::text));
+        Some(Ok(match self.text_compare() {
+            true => like_ignoring_case(&a, &b),
+            false => like(&a, &b),
+        }))
+    }
+
     /// The result of the relational operator or `Like` `op` on `values`, the values of
     /// `operands`, where VBA's differs from the formula's; `None` where it does not. A text
     /// against a number ("Comparison operators" in the Office VBA reference): a declared
@@ -219,7 +236,7 @@ impl Interp<'_, '_> {
         (a, b): (&Value, &Value),
     ) -> Option<Result<Value, Fault>> {
         if op == BinOp::Like {
-            return self.text_compare().then(|| Ok(like_ignoring_case(a, b)));
+            return self.vba_like((ea, eb), (a, b));
         }
         if !relational(op) {
             return None;

@@ -773,6 +773,37 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// The text the number `v`, the value of `e`, is let-coerced to for a String ([MS-VBAL]
+    /// 5.5.1.2.4, Let-coercion to String), where its type writes it otherwise than a Double's
+    /// fifteen digits: a Date its date text, a LongLong, Decimal or Currency its every digit,
+    /// a Single its seven significant digits (`t = CSng(1 / 3)` into a String is "0.3333333");
+    /// `None` for a Double and any other value. Library functions' String arguments take the
+    /// same text (`eval::functions::vba::held_text`).
+    pub(super) fn let_text(&self, e: &Expr, v: &Value) -> Option<String> {
+        if !matches!(v, Value::Number(_)) {
+            return None;
+        }
+        if let Some(day) = self.as_date(e, v) {
+            return Some(super::value::date_text(day));
+        }
+        (self.long_long_text(e, v))
+            .or_else(|| self.as_single(e, v).map(|n| crate::eval::functions::vba::vba_number_shown(n, true)))
+    }
+
+    /// [`Interp::let_text`] of the number `n` an argument gave, known by the type it holds
+    /// (`held`, [MS-VBAL] 5.3.1.11) rather than by its expression: a Date, a Single or a
+    /// Currency passed to a String parameter ByVal.
+    pub(super) fn held_type_text(&self, held: Declared, n: f64) -> Option<String> {
+        match held {
+            Declared::Date => Some(super::value::date_text(n)),
+            Declared::Single if self.narrow_numbers => {
+                Some(crate::eval::functions::vba::vba_number_shown(single_shown(n), true))
+            }
+            Declared::Currency if self.narrow_numbers => currency_digits(n),
+            _ => None,
+        }
+    }
+
     /// The digits of the Currency `v`, the value of `e`: its integer of ten-thousandths
     /// ("Currency data type") written as a decimal, `[-]whole[.places]`; `None` for any other
     /// value, and past a Currency's range.

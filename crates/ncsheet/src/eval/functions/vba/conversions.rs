@@ -215,7 +215,10 @@ pub(super) fn string(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// `StrReverse(expression)`: the characters in reverse order ([MS-VBAL]: its expression is
 /// a String, so Null is error 94).
 pub(super) fn str_reverse(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    lift_vba(ctx, args, "StrReverse", NO_NULL, &|v| Ok(Value::text(vba_text(&v[0])?.chars().rev().collect::<String>())))
+    let values = args.iter().map(|a| super::text_argument(ctx, a)).collect();
+    lift_vba_values(ctx, values, "StrReverse", NO_NULL, &|v| {
+        Ok(Value::text(vba_text(&v[0])?.chars().rev().collect::<String>()))
+    })
 }
 
 /// `Replace(expression, find, replace[, start[, count[, compare]]])` ("Replace function"):
@@ -229,7 +232,9 @@ pub(super) fn replace(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // Left out or vbUseCompareOption: the module's Option Compare.
     let option_text = ctx.option_compare_text();
     let raised = Raised::default();
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values: Vec<Value> = (args.iter().enumerate())
+        .map(|(i, a)| if i < 3 { super::text_argument(ctx, a) } else { ctx.eval(a) })
+        .collect();
     // The text is read whole however little is left of it (`Replace(s, s, "")`).
     ctx.charge_texts(&values[..1]);
     let result = lift_vba_values(ctx, values, "Replace", NO_NULL, &|v| {

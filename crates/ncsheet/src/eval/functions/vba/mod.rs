@@ -906,6 +906,28 @@ pub fn vba_number_shown(n: f64, single: bool) -> String {
     crate::eval::format::number_format::vba_general(n, if single { 7 } else { 15 })
 }
 
+/// The text a macro's number `v`, the value of `e`, is let-coerced to where VBA's library
+/// takes a String ([MS-VBAL] 5.5.1.2.4, Let-coercion to String): a Date its date text, a
+/// LongLong, Decimal or Currency its every digit, a Single its seven significant digits, as
+/// CStr writes each (`Replace(Rnd(), ".", "")` is "07055475", `Left(d, 3)` of the Date
+/// 1/2/2024 "1/2"); `None` for a Double, whose text is [`vba_text`]'s, for any other value,
+/// and in a cell.
+pub(super) fn held_text(ctx: &Ctx, e: &Expr, v: &Value) -> Option<String> {
+    if !matches!(v, Value::Number(_)) {
+        return None;
+    }
+    ctx.macro_date_text(e, v)
+        .or_else(|| ctx.macro_long_long_text(e, v))
+        .or_else(|| ctx.macro_shown_number(e, v).map(|n| vba_number_shown(n, true)))
+}
+
+/// The value of `e`, an argument a library function takes as a String: a macro's Date,
+/// Single, LongLong, Decimal or Currency as its text ([`held_text`]), any other value as it is.
+pub(super) fn text_argument(ctx: &mut Ctx, e: &Expr) -> Value {
+    let v = ctx.eval(e);
+    held_text(ctx, e, &v).map_or(v, Value::text)
+}
+
 /// The arguments' values, the first as a macro shows it ([`Ctx::macro_shown_number`]: a
 /// Single to seven significant digits), and whether it is a Single.
 fn shown_values(ctx: &mut Ctx, args: &[Expr]) -> (Vec<Value>, bool) {
@@ -1012,7 +1034,8 @@ fn text_fn_reading(
             return lift_vba_reading_part(ctx, values, name, passes, &|v| f(&vba_text(&v[0])?, &v[1..]));
         }
     }
-    let values: Vec<Value> = args.iter().map(|a| ctx.eval(a)).collect();
+    let values: Vec<Value> =
+        (args.iter().enumerate()).map(|(i, a)| if i == 0 { text_argument(ctx, a) } else { ctx.eval(a) }).collect();
     let lift = match reads {
         Reads::Whole => lift_vba_values,
         Reads::Part => lift_vba_reading_part,

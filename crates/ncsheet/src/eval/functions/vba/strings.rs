@@ -43,7 +43,7 @@ fn text_arg(ctx: &mut Ctx, name: &str, args: &[Expr], i: usize) -> XlResult<Stri
 /// A text argument, `None` for Null: InStr, InStrRev and StrComp then return Null ("If
 /// string1 is Null", "If string1 or string2 is Null" on their pages).
 fn text_or_null(ctx: &mut Ctx, args: &[Expr], i: usize) -> XlResult<Option<String>> {
-    match ctx.eval(&args[i]).unwrap_single() {
+    match super::text_argument(ctx, &args[i]).unwrap_single() {
         Value::Null => Ok(None),
         v => Ok(Some(vba_text(&v)?.to_string())),
     }
