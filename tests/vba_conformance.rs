@@ -1604,3 +1604,24 @@ fn a_variable_of_another_type_given_by_ref_does_not_compile() {
     );
     assert_eq!(run(&ok).printed, [" 2 ", " 5 ", " 5 ", " 7 ", " 14 "]);
 }
+
+// "Filter Function" (Visual Basic 6 reference): "An error occurs if sourcearray is Null or is
+// not a one-dimensional array"; Join's sourcearray is a "One-dimensional array" too ("Join
+// function"). The numbers are those Microsoft's Visual Basic runtime keeps for Visual Basic 6
+// code, in the Exceptions tables of "Join Function (Visual Basic)" (5, "SourceArray is not
+// one dimensional") and "Filter Function (Visual Basic)" (9, "Source is Nothing or is not a
+// one-dimensional array"). Raised, trappable, where Join gave #VALUE! as its value.
+#[test]
+fn join_and_filter_of_no_one_dimensional_array_raise_errors() {
+    let out = run("Sub Main()\n    Dim m(1, 1), v, r\n    v = 5\n    On Error Resume Next\n\
+                   \x20   r = Join(\"abc\", \",\"): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   r = Join(v): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   r = Join(Null): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   r = Join(m): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   r = Filter(\"abc\", \"a\"): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   r = Filter(m, \"a\"): Debug.Print Err.Number: Err.Clear\n\
+                   \x20   Debug.Print Join(Filter(Array(\"ab\", \"c\", \"ba\"), \"a\"), \"+\"); Err.Number\nEnd Sub\n");
+    assert_eq!(out.printed, [" 5 ", " 5 ", " 5 ", " 5 ", " 9 ", " 9 ", "ab+ba 0 "]);
+    let e = run_with("Sub Main()\n    Debug.Print Join(\"abc\")\nEnd Sub\n", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("Join") && e.message.contains("one-dimensional"), "{e}");
+}

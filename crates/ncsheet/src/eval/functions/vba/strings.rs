@@ -330,7 +330,7 @@ pub fn split(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// out); no item kept gives an array with no items. Excel's worksheet FILTER, a different
 /// function, answered the bare name in a macro before.
 pub fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let Value::Array(items) = ctx.eval(&args[0]) else { return Err(XlError::Value) };
+    let items = source_array(ctx, "Filter", args, 9)?;
     let wanted = text_arg(ctx, "Filter", args, 1)?;
     let include = match given(args, 2).map(|e| ctx.eval(e).unwrap_single()) {
         Some(v) => super::vba_bool(&v)?,
@@ -352,10 +352,24 @@ pub fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     Ok(Value::from(Array::row(kept)))
 }
 
+/// The `sourcearray` of Join and Filter, a one-dimensional array: "An error occurs if
+/// sourcearray is Null or is not a one-dimensional array" (Visual Basic 6's "Filter
+/// Function"), raised with the number Microsoft's Visual Basic runtime keeps for Visual Basic
+/// 6 code ("Join Function (Visual Basic)": 5, "Filter Function (Visual Basic)": 9, in their
+/// Exceptions tables). Several rows are two dimensions (a Range's value).
+fn source_array(ctx: &mut Ctx, name: &str, args: &[Expr], code: u32) -> XlResult<std::rc::Rc<Array>> {
+    let why = match ctx.eval(&args[0]) {
+        Value::Array(items) if items.rows <= 1 && items.tail.is_none() => return Ok(items),
+        Value::Array(_) => "its array has two dimensions; give it a one-dimensional array",
+        _ => "it takes a one-dimensional array, and was given a single value",
+    };
+    Err(ctx.raise_vba(XlError::Value, code, super::errors::message(code, format_args!("{name}: {why}"))))
+}
+
 /// `Join(sourcearray[, delimiter])`: the items' texts with the delimiter (a space when
-/// omitted) between them; a value that is no array is a type mismatch.
+/// omitted) between them.
 pub fn join(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
-    let Value::Array(items) = ctx.eval(&args[0]) else { return Err(XlError::Value) };
+    let items = source_array(ctx, "Join", args, 5)?;
     let delimiter = match given(args, 1) {
         Some(_) => text_arg(ctx, "Join", args, 1)?,
         None => " ".to_string(),
