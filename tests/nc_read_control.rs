@@ -386,6 +386,23 @@ fn nc_time_of_fanuc_subprogram_calls_is_the_flat_programs() {
     assert_eq!(cycle_time("calls.nc", FANUC_CALLS), cycle_time("flat.nc", FANUC_FLAT));
 }
 
+/// A Fanuc control ends a block at EOB, which the manuals print as `;` (B-64124EN/01 §13.2,
+/// "Notation in this manual"): the whole calling program and its subprograms written on one
+/// line, `;` between the blocks, is the same program as the flat one; an error in the last of
+/// 2,000 blocks on one line names its column on that line.
+#[test]
+fn fanuc_blocks_joined_by_eob_on_one_line_read_as_the_flat_program() {
+    let one_line = FANUC_CALLS.replace('\n', " ;");
+    let called = read::read(&one_line, Family::Fanuc, None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(called.blocks, read::read(FANUC_FLAT, Family::Fanuc, None).unwrap().blocks);
+    let long: String = (0..2000).map(|i| format!("G01 X{}. F500. ;", i % 100)).collect();
+    let e = read::read(&format!("G21 G90 ;{long}G01 Q ;\nM30\n"), Family::Fanuc, None).unwrap_err();
+    assert_eq!((e.line, e.column), (1, "G21 G90 ;".len() + long.len() + 5), "{e}");
+    let e = read::read(&format!("G21 G90 ;{long}M98 P7 ;\nM30\n"), Family::Fanuc, None).unwrap_err();
+    assert_eq!((e.line, e.column), (1, "G21 G90 ;".len() + long.len() + 5), "{e}");
+    assert!(e.message.contains("alarm 078"), "{e}");
+}
+
 /// What the manual bounds (a count of 1–999, four levels of nesting) and what the file does
 /// not hold (alarm 078) are refused at their line and column; so is what the manual leaves to
 /// a control's set-up (M99 in the main program restarts it; `M99 P` out of a repeated call).

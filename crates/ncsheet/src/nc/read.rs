@@ -192,99 +192,96 @@ pub fn read_with_lines(
     // NC31 runs its subprograms, parameters and jumps ([`nc31`]): the blocks it executes.
     // Fanuc runs its subprogram calls (M98, M99) over the file's other O programs ([`fanuc_calls`]).
     let fanuc = if family == Family::Fanuc { Some(fanuc_calls::unroll(text)?) } else { None };
-    let mut sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize)>> = if family == Family::Nc31 {
-        Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line)))
+    // Each source is one block with its line and the characters before it on that line (a
+    // Fanuc line holds as many blocks as it has `;`: [`fanuc_blocks`], split once by the unroll).
+    let mut sources: Box<dyn Iterator<Item = (std::borrow::Cow<'_, str>, usize, usize)>> = if family == Family::Nc31 {
+        Box::new(nc31::expand(text)?.into_iter().map(|(b, line)| (std::borrow::Cow::Owned(b), line, 0)))
     } else if let Some(unrolled) = &fanuc {
         Box::new(unrolled.blocks())
     } else {
-        Box::new(text.lines().enumerate().map(|(i, l)| (std::borrow::Cow::Borrowed(l), i + 1)))
+        Box::new(text.lines().enumerate().map(|(i, l)| (std::borrow::Cow::Borrowed(l), i + 1, 0)))
     };
     // LinuxCNC runs its O-codes (subroutines, conditions, loops) with the parameters as they stand.
     let mut flow = if family == Family::LinuxCnc { Some(flow::Flow::new(text)?) } else { None };
     loop {
         let next = match &mut flow {
-            Some(flow) => flow.next_line(&mut parameters)?.map(|(l, i)| (std::borrow::Cow::Borrowed(l), i + 1)),
+            Some(flow) => flow.next_line(&mut parameters)?.map(|(l, i)| (std::borrow::Cow::Borrowed(l), i + 1, 0)),
             None => sources.next(),
         };
-        let Some((full, line)) = next else { break };
-        for raw in blocks_of_line(&full, family) {
-            let raw = raw.as_str();
-            let at = |column: usize, message: String| ReadError { line, column, message };
-            let trimmed = raw.trim();
-            if trimmed.is_empty() || trimmed == "%" {
+        let Some((raw, line, offset)) = next else { break };
+        let raw = raw.as_ref();
+        let at = |column: usize, message: String| ReadError { line, column: offset + column, message };
+        let trimmed = raw.trim();
+        if trimmed.is_empty() || trimmed == "%" {
+            continue;
+        }
+        if ended {
+            return Err(at(1, "text after the program's end (M30/M2)".into()));
+        }
+        if family == Family::Sinumerik && !started {
+            // The archive's directory: where the control files the program, not part of it.
+            if trimmed.starts_with(";$PATH=") {
                 continue;
             }
-            if ended {
-                return Err(at(1, "text after the program's end (M30/M2)".into()));
-            }
-            if family == Family::Sinumerik && !started {
-                // The archive's directory: where the control files the program, not part of it.
-                if trimmed.starts_with(";$PATH=") {
-                    continue;
-                }
-                if let Some(name) = sinumerik_header(trimmed).map_err(|m| at(1, m))? {
-                    program.name = name;
-                    continue;
-                }
-            }
-            let Line { words, comment, diameter, spindle_limit, rapid_mark, settings } =
-                tokens(raw, family, &parameters).map_err(|(c, m)| at(c, m))?;
-            // LinuxCNC sets a line's parameters once the whole line is read.
-            parameters.apply(settings);
-            if let Some(d) = diameter {
-                st.diameter = d;
-            }
-            if let Some(limit) = spindle_limit {
-                st.max_rpm = Some(limit);
-            }
-            if words.is_empty() {
-                if let Some(w) = rapid_mark {
-                    return Err(at(w, "a rapid mark E without an end point".into()));
-                }
-                if let Some(c) = comment {
-                    // Fanuc and LinuxCNC name a program in the comment before its first block.
-                    let names = matches!(family, Family::Fanuc | Family::LinuxCnc);
-                    if !started && names && program.name.is_empty() {
-                        program.name = c;
-                    } else {
-                        program.blocks.push(Block::Comment(c));
-                        lines.push(line);
-                    }
-                }
+            if let Some(name) = sinumerik_header(trimmed).map_err(|m| at(1, m))? {
+                program.name = name;
                 continue;
             }
-            if let Some(o) = words.iter().find(|w| w.letter == 'O') {
-                if family != Family::Fanuc || started || words.len() > 1 {
-                    return Err(at(
-                        o.column,
-                        "an O-word other than the program number at the start is not read".into(),
-                    ));
+        }
+        let Line { words, comment, diameter, spindle_limit, rapid_mark, settings } =
+            tokens(raw, family, &parameters).map_err(|(c, m)| at(c, m))?;
+        // LinuxCNC sets a line's parameters once the whole line is read.
+        parameters.apply(settings);
+        if let Some(d) = diameter {
+            st.diameter = d;
+        }
+        if let Some(limit) = spindle_limit {
+            st.max_rpm = Some(limit);
+        }
+        if words.is_empty() {
+            if let Some(w) = rapid_mark {
+                return Err(at(w, "a rapid mark E without an end point".into()));
+            }
+            if let Some(c) = comment {
+                // Fanuc and LinuxCNC name a program in the comment before its first block.
+                let names = matches!(family, Family::Fanuc | Family::LinuxCnc);
+                if !started && names && program.name.is_empty() {
+                    program.name = c;
+                } else {
+                    program.blocks.push(Block::Comment(c));
+                    lines.push(line);
                 }
-                if !(1.0..=9999.0).contains(&o.value) || o.value.fract() != 0.0 {
-                    return Err(at(o.column, format!("O{} is not a program number O0001–O9999", o.value)));
-                }
-                program.number = Some(o.value as u32);
-                program.name = comment.unwrap_or_default();
-                continue;
             }
-            started = true;
-            let finest = words.iter().filter(|w| "XYZABCIJKRUW".contains(w.letter)).map(|w| w.decimals).max();
-            decimals = decimals.max(finest.unwrap_or(0));
-            let before = program.blocks.len();
-            ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
-            if family == Family::LinuxCnc {
-                let moved = program.blocks[before..].iter().any(is_move);
-                note_compensated(&mut st, &words, moved);
-                control_state(&st, &mut parameters.control);
+            continue;
+        }
+        if let Some(o) = words.iter().find(|w| w.letter == 'O') {
+            if family != Family::Fanuc || started || words.len() > 1 {
+                return Err(at(o.column, "an O-word other than the program number at the start is not read".into()));
             }
-            // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
-            if let Some(c) = comment.filter(|c| !c.is_empty()) {
-                program.blocks.push(Block::Comment(c));
+            if !(1.0..=9999.0).contains(&o.value) || o.value.fract() != 0.0 {
+                return Err(at(o.column, format!("O{} is not a program number O0001–O9999", o.value)));
             }
-            lines.resize(program.blocks.len(), line);
-            if st.machine.is_none() && program.blocks.iter().any(is_move) {
-                st.machine = Some(Machine::Mill);
-            }
+            program.number = Some(o.value as u32);
+            program.name = comment.unwrap_or_default();
+            continue;
+        }
+        started = true;
+        let finest = words.iter().filter(|w| "XYZABCIJKRUW".contains(w.letter)).map(|w| w.decimals).max();
+        decimals = decimals.max(finest.unwrap_or(0));
+        let before = program.blocks.len();
+        ended = block(&mut st, &words, rapid_mark, &mut program.blocks).map_err(|(c, m)| at(c, m))?;
+        if family == Family::LinuxCnc {
+            let moved = program.blocks[before..].iter().any(is_move);
+            note_compensated(&mut st, &words, moved);
+            control_state(&st, &mut parameters.control);
+        }
+        // A comment after a block's words (`N20 T1 D1 ; roughing`) follows the block.
+        if let Some(c) = comment.filter(|c| !c.is_empty()) {
+            program.blocks.push(Block::Comment(c));
+        }
+        lines.resize(program.blocks.len(), line);
+        if st.machine.is_none() && program.blocks[before..].iter().any(is_move) {
+            st.machine = Some(Machine::Mill);
         }
     }
     program.machine = st.machine.unwrap_or(Machine::Mill);
@@ -365,35 +362,27 @@ fn control_state(st: &State, c: &mut predefined::Control) {
     c.selected = st.selected;
 }
 
-/// The blocks of one line of text. On a Fanuc control `;` is the end of block (EOB: the
-/// manuals print every block as `N10 G00 X100. Z180. ;`, the control shows LF as `;`), so
-/// a line holds as many blocks as it has `;` outside a `( … )` comment; elsewhere `;` starts
-/// a comment (LinuxCNC, Sinumerik) and a line is one block. Each block is the line with the
-/// other blocks blanked out, so that columns stay the line's.
-fn blocks_of_line(line: &str, family: Family) -> Vec<String> {
-    if family != Family::Fanuc {
-        return vec![line.to_string()];
-    }
-    let chars: Vec<char> = line.chars().collect();
-    let mut ends = Vec::new();
-    let mut in_comment = false;
-    for (i, c) in chars.iter().enumerate() {
+/// The blocks of one line of a Fanuc program, each with the number of characters before it
+/// on the line (so that columns stay the line's). On a Fanuc control `;` is the end of block
+/// (EOB: the manuals print every block as `N10 G00 X100. Z180. ;`, the control shows LF as
+/// `;`), so a line holds as many blocks as it has `;` outside a `( … )` comment; elsewhere `;`
+/// starts a comment (LinuxCNC, Sinumerik) and a line is one block. One pass over the line:
+/// the blocks are slices of it, so a line of 200,000 blocks is not copied once per block.
+fn fanuc_blocks(line: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
+    let (mut start, mut start_chars, mut in_comment) = (0, 0, false);
+    for (chars, (at, c)) in line.char_indices().enumerate() {
         match c {
             '(' => in_comment = true,
             ')' => in_comment = false,
-            ';' if !in_comment => ends.push(i),
+            ';' if !in_comment => {
+                out.push((start_chars, &line[start..at]));
+                (start, start_chars) = (at + 1, chars + 1);
+            }
             _ => {}
         }
     }
-    ends.push(chars.len());
-    let mut start = 0;
-    let mut out = Vec::with_capacity(ends.len());
-    for end in ends {
-        let block: String =
-            chars.iter().enumerate().map(|(i, c)| if (start..end).contains(&i) { *c } else { ' ' }).collect();
-        out.push(block);
-        start = end + 1;
-    }
+    out.push((start_chars, &line[start..]));
     out
 }
 
@@ -429,7 +418,7 @@ struct Line {
 }
 
 /// The words of one line and its comment: `( … )` on Fanuc and LinuxCNC, `;` to the end of
-/// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`blocks_of_line`];
+/// the line on LinuxCNC and Sinumerik (Fanuc's `;` ends the block: [`fanuc_blocks`];
 /// the NC31 has no comments), Sinumerik's `MSG("…")`.
 /// LinuxCNC's values may be expressions and parameters ([`parameters`]), read with the
 /// values `params` holds before this line.

@@ -19,6 +19,7 @@
 //! from its start, without end) and `M99 P` ending a call that repeats.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use super::nc31::MAX_BLOCKS_RUN;
 use super::ReadError;
@@ -36,14 +37,25 @@ const MAX_TEXT_RUN: usize = 64 << 20;
 /// A program's blocks as the control runs them: each block of the file once, and the order
 /// the calls run them in (indices, so that a block repeated a million times is stored once).
 pub(crate) struct Unrolled {
-    blocks: Vec<(String, usize)>,
+    blocks: Vec<Text>,
     order: Vec<usize>,
 }
 
+/// One block's text to run, its 1-based line, and the characters before it on that line.
+struct Text {
+    text: String,
+    line: usize,
+    offset: usize,
+}
+
 impl Unrolled {
-    /// The blocks in the order they run, each with its 1-based source line.
-    pub(crate) fn blocks(&self) -> impl Iterator<Item = (Cow<'_, str>, usize)> + '_ {
-        self.order.iter().map(|&i| (Cow::Borrowed(self.blocks[i].0.as_str()), self.blocks[i].1))
+    /// The blocks in the order they run, each with its 1-based source line and the
+    /// characters before it on that line.
+    pub(crate) fn blocks(&self) -> impl Iterator<Item = (Cow<'_, str>, usize, usize)> + '_ {
+        self.order.iter().map(|&i| {
+            let b = &self.blocks[i];
+            (Cow::Borrowed(b.text.as_str()), b.line, b.offset)
+        })
     }
 }
 
@@ -84,20 +96,29 @@ enum Flow {
     },
 }
 
-/// One block of the file: where it is, its N number, what it does, and the index of its
-/// text to run (`None` when nothing is left once the call's words are taken out).
+/// One block of the file: where it is (its line, the characters before it on the line), what
+/// it does, and the index of its text to run (`None` when nothing is left once
+/// the call's words are taken out).
 struct Block {
     line: usize,
-    label: Option<u32>,
+    offset: usize,
     flow: Flow,
     text: Option<usize>,
 }
 
-/// An `O` program of the file: its number (the main program may have none) and its blocks.
+/// An `O` program of the file: its number (the main program may have none), its blocks, and
+/// where each sequence number `N` first stands among them (an `M99 P` goes on there).
 struct Program {
     number: Option<u32>,
     line: usize,
     blocks: Vec<Block>,
+    labels: HashMap<u32, usize>,
+}
+
+/// The file's programs, and which of them each number names.
+struct Programs {
+    all: Vec<Program>,
+    numbered: HashMap<u32, usize>,
 }
 
 fn error(line: usize, column: usize, message: impl Into<String>) -> ReadError {
@@ -109,8 +130,8 @@ fn error(line: usize, column: usize, message: impl Into<String>) -> ReadError {
 pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
     let mut texts = Vec::new();
     let programs = split(text, &mut texts)?;
-    let written_bytes: usize = texts.iter().map(|(t, _): &(String, usize)| t.len()).sum();
-    let written_blocks = programs.iter().map(|p| p.blocks.len()).sum::<usize>();
+    let written_bytes: usize = texts.iter().map(|t: &Text| t.text.len()).sum();
+    let written_blocks = programs.all.iter().map(|p| p.blocks.len()).sum::<usize>();
     let mut run = Run {
         programs: &programs,
         texts: &texts,
@@ -125,44 +146,73 @@ pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
 
 /// The file's blocks, grouped into its `O` programs: the first is the main program (its `O`
 /// line, if any, kept as a block the reader reads); every later `O` line starts a subprogram.
-fn split(text: &str, texts: &mut Vec<(String, usize)>) -> Result<Vec<Program>, ReadError> {
-    let mut programs = vec![Program { number: None, line: 1, blocks: Vec::new() }];
+/// Each line is split into its blocks once, here; the reader reads the blocks this keeps.
+fn split(text: &str, texts: &mut Vec<Text>) -> Result<Programs, ReadError> {
+    let main = Program { number: None, line: 1, blocks: Vec::new(), labels: HashMap::new() };
+    let mut programs = Programs { all: vec![main], numbered: HashMap::new() };
     for (i, line_text) in text.lines().enumerate() {
         let line = i + 1;
-        for raw in super::blocks_of_line(line_text, super::Family::Fanuc) {
+        for (offset, raw) in super::fanuc_blocks(line_text) {
             if matches!(raw.trim(), "" | "%") {
                 continue;
             }
-            let words = words(&raw);
-            if let Some(o) = words.first().filter(|w| w.letter == 'O') {
-                let main_started = !programs[0].blocks.is_empty() || programs.len() > 1;
-                if main_started {
-                    if let Some(refusal) = linuxcnc_o_code(&raw, o, line) {
-                        return Err(refusal);
-                    }
-                    programs.push(header(o, &words, line, &programs)?);
-                    continue;
-                }
-            }
-            let flow = flow(&words, line)?;
-            let rest = match flow {
-                Flow::Plain => Some(raw),
-                _ => without_flow_words(&raw, &words),
-            };
-            let text = rest.map(|r| {
-                texts.push((r, line));
-                texts.len() - 1
-            });
-            let label = words.first().filter(|w| w.letter == 'N').and_then(|w| w.number.parse().ok());
-            programs.last_mut().expect("the main program").blocks.push(Block { line, label, flow, text });
+            split_block(raw, Place { line, offset }, &mut programs, texts).map_err(|e| shifted(e, offset))?;
         }
     }
-    for p in &programs[1..] {
+    for p in &programs.all[1..] {
         if !p.blocks.iter().any(|b| matches!(b.flow, Flow::Return { .. })) {
             return Err(error(p.line, 1, format!("subprogram O{:04} has no M99 to return", p.number.unwrap_or(0))));
         }
     }
     Ok(programs)
+}
+
+/// Where a block stands: its 1-based line and the characters before it on that line.
+#[derive(Clone, Copy)]
+struct Place {
+    line: usize,
+    offset: usize,
+}
+
+/// An error found in a block, its column counted from the block's start, at the line's column.
+fn shifted(mut e: ReadError, offset: usize) -> ReadError {
+    e.column += offset;
+    e
+}
+
+/// Files one block: a subprogram's `O` line starts a program; any other block goes to the
+/// program being written, its text (without M98/M99 and their words) kept to be run.
+fn split_block(raw: &str, at: Place, programs: &mut Programs, texts: &mut Vec<Text>) -> Result<(), ReadError> {
+    let line = at.line;
+    let words = words(raw);
+    if let Some(o) = words.first().filter(|w| w.letter == 'O') {
+        let main_started = !programs.all[0].blocks.is_empty() || programs.all.len() > 1;
+        if main_started {
+            if let Some(refusal) = linuxcnc_o_code(raw, o, line) {
+                return Err(refusal);
+            }
+            let program = header(o, &words, line, &programs.numbered)?;
+            programs.numbered.insert(program.number.expect("a subprogram's number"), programs.all.len());
+            programs.all.push(program);
+            return Ok(());
+        }
+    }
+    let flow = flow(&words, line)?;
+    let rest = match flow {
+        Flow::Plain => Some(raw.to_string()),
+        _ => without_flow_words(raw, &words),
+    };
+    let text = rest.map(|text| {
+        texts.push(Text { text, line, offset: at.offset });
+        texts.len() - 1
+    });
+    let label = words.first().filter(|w| w.letter == 'N').and_then(|w| w.number.parse().ok());
+    let program = programs.all.last_mut().expect("the main program");
+    if let Some(n) = label {
+        program.labels.entry(n).or_insert(program.blocks.len());
+    }
+    program.blocks.push(Block { line, offset: at.offset, flow, text });
+    Ok(())
 }
 
 /// A LinuxCNC O-code (`o100 sub`, `O101 while [...]`) in a program read as iso is named as
@@ -175,7 +225,7 @@ fn linuxcnc_o_code(raw: &str, o: &Word, line: usize) -> Option<ReadError> {
 }
 
 /// A subprogram's `O` line: its number, alone in its block.
-fn header(o: &Word, words: &[Word], line: usize, programs: &[Program]) -> Result<Program, ReadError> {
+fn header(o: &Word, words: &[Word], line: usize, numbered: &HashMap<u32, usize>) -> Result<Program, ReadError> {
     let number = o.value().filter(|v| (1.0..=9999.0).contains(v) && v.fract() == 0.0);
     let Some(number) = number.map(|v| v as u32) else {
         return Err(error(line, o.start + 1, format!("O{} is not a program number O0001–O9999", o.number)));
@@ -183,10 +233,10 @@ fn header(o: &Word, words: &[Word], line: usize, programs: &[Program]) -> Result
     if let Some(w) = words.get(1) {
         return Err(error(line, w.start + 1, format!("a program number O{number:04} takes a block of its own")));
     }
-    if programs.iter().any(|p| p.number == Some(number)) {
+    if numbered.contains_key(&number) {
         return Err(error(line, o.start + 1, format!("program O{number:04} is written twice in this file")));
     }
-    Ok(Program { number: Some(number), line, blocks: Vec::new() })
+    Ok(Program { number: Some(number), line, blocks: Vec::new(), labels: HashMap::new() })
 }
 
 /// What a block's M98 or M99 asks, with its words checked.
@@ -287,8 +337,8 @@ fn words(raw: &str) -> Vec<Word> {
 
 /// The calls being run, and the budgets they spend.
 struct Run<'a> {
-    programs: &'a [Program],
-    texts: &'a [(String, usize)],
+    programs: &'a Programs,
+    texts: &'a [Text],
     order: Vec<usize>,
     steps_left: usize,
     bytes_left: usize,
@@ -302,8 +352,8 @@ impl Run<'_> {
     /// Runs program `index` at nesting `depth` (0 the main program) from its first block;
     /// returns the sequence number an `M99 P` names, if any.
     fn program(&mut self, index: usize, depth: usize) -> Result<Option<u32>, ReadError> {
-        let programs = self.programs;
-        let blocks = &programs[index].blocks;
+        let this = &self.programs.all[index];
+        let blocks = &this.blocks;
         let mut at = 0;
         while let Some(block) = blocks.get(at) {
             self.spend(block)?;
@@ -317,7 +367,7 @@ impl Run<'_> {
                     if depth == 0 {
                         return Err(error(
                             block.line,
-                            column,
+                            block.offset + column,
                             "M99 in the main program runs it again from its start, without end: end it with M30",
                         ));
                     }
@@ -325,7 +375,7 @@ impl Run<'_> {
                 }
                 Flow::Call { program, repeats, column } => {
                     if let Some(to) = self.call(block, program, repeats, column, depth)? {
-                        at = self.sequence(blocks, to, block)?;
+                        at = self.sequence(this, to, block)?;
                     }
                 }
             }
@@ -343,7 +393,8 @@ impl Run<'_> {
         column: usize,
         depth: usize,
     ) -> Result<Option<u32>, ReadError> {
-        let Some(index) = self.programs.iter().position(|p| p.number == Some(number)) else {
+        let column = block.offset + column;
+        let Some(&index) = self.programs.numbered.get(&number) else {
             return Err(error(
                 block.line,
                 column,
@@ -373,19 +424,19 @@ impl Run<'_> {
     }
 
     /// The index of the block `N to` of the calling program, where an `M99 P` goes on.
-    fn sequence(&self, blocks: &[Block], to: u32, call: &Block) -> Result<usize, ReadError> {
-        blocks.iter().position(|b| b.label == Some(to)).ok_or_else(|| {
-            error(call.line, 1, format!("the subprogram this block calls returns to N{to} with M99 P{to}, and this program has no block N{to}"))
+    fn sequence(&self, program: &Program, to: u32, call: &Block) -> Result<usize, ReadError> {
+        program.labels.get(&to).copied().ok_or_else(|| {
+            error(call.line, call.offset + 1, format!("the subprogram this block calls returns to N{to} with M99 P{to}, and this program has no block N{to}"))
         })
     }
 
     /// Counts one block run against the budgets.
     fn spend(&mut self, block: &Block) -> Result<(), ReadError> {
-        let bytes = block.text.map_or(0, |t| self.texts[t].0.len());
+        let bytes = block.text.map_or(0, |t| self.texts[t].text.len());
         if self.steps_left == 0 || self.bytes_left < bytes {
             return Err(error(
                 block.line,
-                1,
+                block.offset + 1,
                 format!(
                     "the program runs more than {MAX_BLOCKS_RUN} blocks or {} MiB of text beyond the ones written (each \
                      subprogram call and repeat running its blocks again): calls within calls or a loop that never ends \
@@ -397,5 +448,38 @@ impl Run<'_> {
         self.steps_left -= 1;
         self.bytes_left -= bytes;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{read_with_lines, Family};
+    use super::*;
+    use crate::nc::program::Machine;
+
+    const BLOCKS: usize = 2000;
+
+    fn block(i: usize) -> String {
+        format!("G01 X{}. Y{}. F500. ", i % 100, (i * 7) % 50)
+    }
+
+    #[test]
+    fn a_line_of_many_blocks_is_split_once_into_slices_of_it() {
+        // 2,000 blocks on one line (the EOB `;` ends each). The text kept to run is the line's
+        // own text once: each block was a copy of the whole line with the other blocks blanked
+        // (2,000 times the line, about 90 MB here).
+        let line: String = (0..BLOCKS).map(|i| block(i) + ";").collect();
+        let text = format!("G21 G90 G94 ;\n{line}\nM30 ;\n");
+        let unrolled = unroll(&text).unwrap();
+        let held: usize = unrolled.blocks.iter().map(|t| t.text.len()).sum();
+        assert!(held <= text.len(), "{held} bytes held for a text of {}", text.len());
+        // The same blocks written one a line are the same program, each at its own line.
+        let flat: String = (0..BLOCKS).map(|i| block(i) + ";\n").collect();
+        let flat = format!("G21 G90 G94 ;\n{flat}M30 ;\n");
+        let (joined, joined_lines) = read_with_lines(&text, Family::Fanuc, Some(Machine::Mill)).unwrap();
+        let (one_a_line, flat_lines) = read_with_lines(&flat, Family::Fanuc, Some(Machine::Mill)).unwrap();
+        assert_eq!(joined, one_a_line);
+        assert_eq!(joined_lines.len(), flat_lines.len());
+        assert!(joined_lines.iter().all(|&l| l <= 3), "{joined_lines:?}");
     }
 }
