@@ -105,6 +105,7 @@ fn run_corpus(files: &[PathBuf]) -> Run {
             layout: opened.layout.unwrap_or_default(),
             notes: opened.notes,
             written_by: opened.written_by,
+            uncached: Vec::new(),
         };
         let (results, _) = judge(&imported, &|c| Some(c.value.clone()), &|_| false, &xlsx::values_agree);
         let (mut compared, mut agree) = (0usize, 0usize);

@@ -413,3 +413,39 @@ fn whole_rows_and_columns_in_array_formulas_reach_the_sheet_edge() {
     // Every row of A but A2 and A3 is empty.
     assert_eq!(wb.value(1, at("G4")), num(1048574.0));
 }
+
+/// A generator that does not calculate (openpyxl, a script) writes formulas with no result:
+/// `<f>` and an empty `<v/>`, or no `<v>` at all. Excel computes them on opening and writes
+/// its results when it saves; a save by ncsheet writes its results there too, though no edit
+/// touched them (the file held nothing to keep), where the saved cells stayed empty and a
+/// reader of the saved values (openpyxl's `data_only`, a viewer) saw no result. A result the
+/// file cached is kept as the file had it.
+#[test]
+fn formulas_read_without_a_result_are_saved_with_one() {
+    use ncsheet::io::{self, atomic, Format};
+    use std::io::Read;
+    let row = r#"<row r="1"><c r="A1"><v>3</v></c><c r="B1"><f>A1*2</f><v></v></c><c r="C1"><f>1/0</f></c><c r="D1"><f>B1&amp;"x"</f><v/></c><c r="E1"><f>NOSUCHFUNCTION(1)</f></c><c r="F1"><f>A1+1</f><v>4</v></c></row>"#;
+    let dir = tempfile::tempdir().unwrap();
+    let source = dir.path().join("generated.xlsx");
+    let out = dir.path().join("saved.xlsx");
+    std::fs::write(&source, package(&[("Sheet1", row)], "")).unwrap();
+    let opened = io::open_bytes(std::fs::read(&source).unwrap(), &source, Format::Xlsx, None).unwrap();
+    let mut wb = opened.workbook;
+    wb.set_input(0, at("A3"), "1").unwrap();
+    io::encode_save(&wb, opened.layout.as_ref(), &opened.origin, &out)
+        .and_then(|saved| saved.write(atomic::Options::default()))
+        .unwrap();
+    let mut zip = zip::ZipArchive::new(Cursor::new(std::fs::read(&out).unwrap())).unwrap();
+    let mut xml = String::new();
+    zip.by_name("xl/worksheets/sheet1.xml").unwrap().read_to_string(&mut xml).unwrap();
+    // What Excel computes for each: 3*2, a division by zero, text joined, an unknown name.
+    for element in [
+        r#"<c r="B1"><f>A1*2</f><v>6</v></c>"#,
+        r#"<c r="C1" t="e"><f>1/0</f><v>#DIV/0!</v></c>"#,
+        r#"<c r="D1" t="str"><f>B1&amp;"x"</f><v>6x</v></c>"#,
+        r#"<c r="E1" t="e"><f>NOSUCHFUNCTION(1)</f><v>#NAME?</v></c>"#,
+        r#"<c r="F1"><f>A1+1</f><v>4</v></c>"#,
+    ] {
+        assert!(xml.contains(element), "{element} not in {xml}");
+    }
+}

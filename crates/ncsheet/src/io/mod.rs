@@ -336,6 +336,7 @@ impl Opened {
     /// A workbook an importer read, its edits tracked from here on for the save.
     fn imported(mut imported: xlsx::Imported, origin: Origin) -> Opened {
         imported.workbook.track_changes();
+        imported.workbook.note_unsaved_values(&imported.uncached);
         Opened {
             workbook: imported.workbook,
             cached: imported.cached,

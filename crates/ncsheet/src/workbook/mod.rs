@@ -737,6 +737,18 @@ impl Workbook {
         self.changes = Some(Box::default());
     }
 
+    /// Counts the values of `cells` as changed since [`Workbook::track_changes`]: the file
+    /// they were read from holds no value for them (a formula whose result a generator left
+    /// out), so a save must write the value they have now.
+    pub fn note_unsaved_values(&mut self, cells: &[(SheetId, Pos)]) {
+        for &(sheet, pos) in cells {
+            let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { continue };
+            if let Some(log) = &mut self.changes {
+                log.values.insert(id);
+            }
+        }
+    }
+
     /// What changed since [`Workbook::track_changes`]; `None` when it was never called.
     pub fn changes(&self) -> Option<Changes> {
         let log = self.changes.as_ref()?;

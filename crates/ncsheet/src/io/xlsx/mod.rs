@@ -71,6 +71,9 @@ pub struct Imported {
     /// The program that last saved the file, whose results `cached` holds (`docProps/app.xml`;
     /// [`WRITTEN_BY`] for a file ncsheet wrote).
     pub written_by: Option<String>,
+    /// Formula cells the file stored no result for (`<v/>`, as a generator that does not
+    /// calculate writes them): a save writes ncsheet's result there, as Excel would.
+    pub uncached: Vec<(SheetId, Pos)>,
 }
 
 /// How ncsheet names itself as the last author (`docProps/core.xml`'s `lastModifiedBy`) of

@@ -118,6 +118,7 @@ pub fn load_bytes_limited(bytes: &[u8], file: &Path, limits: ReadLimits) -> Resu
         layout: Layout::default(),
         notes: Vec::new(),
         written_by,
+        uncached: Vec::new(),
     };
     if calamine.has_1904_epoch() {
         imported.workbook.set_date_1904(true);
@@ -927,8 +928,9 @@ impl<'a> SheetImport<'a> {
         if plain && (ranges || references_made || self.uses_range_name()) {
             self.legacy_ranges.push((sheet, pos));
         }
-        if let Some(value) = cached {
-            imported.cached.push(CachedValue { sheet, pos, value, anchor: pos });
+        match cached {
+            Some(value) => imported.cached.push(CachedValue { sheet, pos, value, anchor: pos }),
+            None => imported.uncached.push((sheet, pos)),
         }
     }
 
