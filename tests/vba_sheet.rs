@@ -373,3 +373,56 @@ fn used_range_starts_at_the_first_used_cell_and_takes_in_formatted_cells() {
     // After the delete the values are in C1:E7 and the format in G10 (B2's row is gone).
     assert_eq!(printed, vec!["$C$3:$E$9 3  3  7  3 ", "$C$3:$G$12", "$B$2:$G$12", "$C$1:$G$10"]);
 }
+
+/// Microsoft's "Range.Range property": "When applied to a Range object, the property is
+/// relative to the Range object"; "The Range Property" (Office XP developer's guide, aa671846):
+/// `Range("B5").Range("B5")` is C9, "n columns to the right and y rows down from the specified
+/// cell". So A3 read from B2:D6 is B4, A1:B2 its four top-left cells, and a list of areas
+/// moves area by area. The page's example `.Range(.Cells(1, 1), .Cells(5, 3))` of B2:Z22 is
+/// B2:D6: Range objects given as corners stay where they are. The macro recorder's relative
+/// references (`ActiveCell.Offset(1, 0).Range("A1").Select`) are this property of an Offset.
+#[test]
+fn range_of_a_range_reads_its_address_from_the_range_s_top_left_cell() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Debug.Print Range(\"B2:D6\").Range(\"A3\").Address & \" \" & Range(\"B5\").Range(\"B5\").Address\n    \
+         Debug.Print Range(\"B2:Z22\").Range(\"A1:B2\").Address & \" \" & Range(\"B2\").Range(\"A1,C3\").Address\n    \
+         With Range(\"B2:Z22\")\n        Debug.Print .Range(.Cells(1, 1), .Cells(5, 3)).Address\n    End With\n    \
+         Range(\"C3\").Select\n    ActiveCell.Offset(1, 0).Range(\"A1\").Select\n    \
+         Debug.Print Selection.Range(\"B1\").Address & \" \" & ActiveCell.Address\n    \
+         Range(\"B2:D6\").Range(\"A1:B2\").Value = 5\n    Debug.Print \"\" & Application.Sum(Range(\"A1:E7\"))",
+    );
+    assert_eq!(printed, ["$B$4 $C$9", "$B$2:$C$3 $B$2,$D$4", "$B$2:$D$6", "$D$4 $C$4", "20"]);
+}
+
+/// `r.Range(...)` runs off the sheet or onto another sheet: a failing Range, run-time error
+/// 1004, which On Error traps as Excel's is.
+#[test]
+fn range_of_a_range_off_the_sheet_is_error_1004() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    On Error Resume Next\n    Dim r As Range\n    Set r = Range(\"B2\").Range(\"A:A\")\n    \
+         Debug.Print Err.Number & \" \" & CStr(r Is Nothing)",
+    );
+    assert_eq!(printed, ["1004 True"]);
+}
+
+/// Microsoft's "Range.Item property": `someRange(1)` is `someRange.Item(1)`; one index walks
+/// the first area "left to right before top to bottom", past its cells "as if the area was
+/// extended downward" (B2:D6's 4th cell B3, B2:C3's 5th B4); `Item(3, 3)` of B2:C3 is D4, a
+/// column may be letters ("AA" 27), and the offsets are from the first area's top-left
+/// (Union(Z4:AA6, A1:C3)(1, 1) is $Z$4). The page gives no rule for a row left out
+/// (`r(, j)`): it is the range's first row, as the modules that write it expect
+/// (`qty = r.Cells(, 1)` for each of a table's `.Rows`, `Split(Cells(, lc).Address, "$")(1)`).
+#[test]
+fn item_of_a_range_by_one_index_by_row_and_column_and_with_the_row_left_out() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Dim r As Range\n    Set r = Range(\"B2:D6\")\n    \
+         Debug.Print r.Item(2).Address & \" \" & r(3).Address & \" \" & r(4).Address & \" \" & Range(\"B2:C3\")(5).Address\n    \
+         Debug.Print Range(\"B2:C3\").Item(3, 3).Address & \" \" & r(1, \"AA\").Address & \" \" & \
+         Union(Range(\"Z4:AA6\"), Range(\"A1:C3\"))(1, 1).Address\n    \
+         Debug.Print r(, 2).Address & \" \" & r.Cells(, 3).Address & \" \" & r.Rows(3).Cells(, 1).Address",
+    );
+    assert_eq!(printed, ["$C$2 $D$2 $B$3 $B$4", "$D$4 $AB$2 $Z$4", "$C$2 $D$2 $B$4"]);
+}

@@ -141,7 +141,7 @@ impl Interp<'_, '_> {
             // returns rows from only the first area of the range" (Columns the same); the
             // first area is also what Value, Formula, Row and Column read.
             "value" | "value2" | "formula" | "formular1c1" | "formulalocal" | "text" | "row" | "column" | "rows"
-            | "columns" | "cells" | "item" => self.range_member(ctx, sheet, first, link),
+            | "columns" | "cells" | "item" | "range" => self.range_member(ctx, sheet, first, link),
             "worksheet" | "parent" => Ok(Obj::Sheet(sheet)),
             "clearcontents" | "clear" | "clearformats" => {
                 for a in areas.iter() {

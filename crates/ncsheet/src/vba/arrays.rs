@@ -324,7 +324,13 @@ impl Interp<'_, '_> {
     /// the range ("Range.Item property").
     #[inline(never)]
     fn range_item_var(&self, sheet: SheetId, rect: Rect, index: &[Expr], span: Span) -> Run<Var> {
-        let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
+        // `r(, j)`: the row left out is the range's first, as `r.Cells(, j)` (objects.rs).
+        let row_left_out = |k: usize, e: &Expr| k == 0 && index.len() == 2 && e.kind == ExprKind::Missing;
+        let at = index
+            .iter()
+            .enumerate()
+            .map(|(k, e)| if row_left_out(k, e) { Ok(1) } else { self.index(e, "the index") })
+            .collect::<Run<Vec<i64>>>()?;
         let cell = super::objects::item(rect, &at).map_err(|m| self.fault_at(span, format!("Range item: {m}")))?;
         Ok(Var::Obj(Obj::Range(sheet, Rect::cell(cell))))
     }
@@ -728,6 +734,8 @@ impl Interp<'_, '_> {
                 }
             }
             Var::Obj(Obj::Range(sheet, rect)) => self.range_item_var(sheet, rect, index, span),
+            // "Range.Item property": the offsets are from the first area's top-left cell.
+            Var::Obj(Obj::Areas(sheet, areas)) => self.range_item_var(sheet, areas[0], index, span),
             other => {
                 let what = match other {
                     Var::Obj(o) => o.describe().to_string(),

@@ -9,7 +9,7 @@ use crate::eval::functions::vba::{errors, vba_text};
 use crate::eval::functions::Registry;
 use crate::eval::{Ctx, Operand, Value};
 use crate::formula::address::{column_index, Pos, Rect, MAX_COLS, MAX_ROWS};
-use crate::formula::ast::{Expr, SheetId};
+use crate::formula::ast::{Expr, ExprKind, SheetId};
 use crate::formula::parse::{parse_formula, parse_formula_r1c1, ParseContext};
 use crate::formula::print::{print_spelled, R1C1};
 
@@ -185,7 +185,7 @@ impl Interp<'_, '_> {
                 None => Ok(Obj::Sheets),
                 Some(_) => self.sheet_or_group(ctx, link),
             },
-            "range" => self.range(ctx, here, link),
+            "range" => self.range(ctx, here, None, link),
             "cells" => self.cells(ctx, here, Rect::cell(Pos::new(0, 0)), link),
             "rows" | "columns" => self.range_member(ctx, here, whole_sheet(), link),
             "nc" => Ok(Obj::Nc),
@@ -519,7 +519,7 @@ impl Interp<'_, '_> {
             return self.evaluate_text(id, text, link);
         }
         match lower(link).as_str() {
-            "range" => self.range(ctx, id, link),
+            "range" => self.range(ctx, id, None, link),
             "cells" => self.cells(ctx, id, Rect::cell(Pos::new(0, 0)), link),
             "rows" | "columns" => self.range_member(ctx, id, whole_sheet(), link),
             "hyperlinks" => self.hyperlinks(ctx, id, whole_sheet(), link),
@@ -565,12 +565,21 @@ impl Interp<'_, '_> {
     }
 
     /// `Range("B3")`, `Range("A1:C4")`, `Range("Sheet2!B3")`, `Range("XA")` (a defined name),
-    /// `Range(Cells(1, 1), Cells(3, 2))`.
-    fn range(&self, ctx: &mut Ctx, sheet: SheetId, link: &Link) -> Run<Obj> {
+    /// `Range(Cells(1, 1), Cells(3, 2))`. Of a range (`r.Range("A3")`), `origin` is its
+    /// top-left cell and an address given as text reads from there ("Range.Range property":
+    /// "When applied to a Range object, the property is relative to the Range object"); a
+    /// Range given as a corner is where it is, as the page's `.Range(.Cells(1, 1), .Cells(5, 3))`.
+    fn range(&self, ctx: &mut Ctx, sheet: SheetId, origin: Option<Pos>, link: &Link) -> Run<Obj> {
         let operands = self.operands(ctx, link)?;
         match operands.as_slice() {
             // "Range property": `Range("A1:B2,D4")`, a list of areas, is one Range of them all.
-            [Operand::Value(Value::Text(t))] if t.contains(',') => return self.range_list(sheet, t, link.span),
+            [Operand::Value(Value::Text(t))] if t.contains(',') => {
+                let list = self.range_list(sheet, t, link.span)?;
+                return match origin {
+                    Some(at) => self.areas_from(list, sheet, at, link),
+                    None => Ok(list),
+                };
+            }
             [Operand::Areas(areas)] => {
                 return super::areas::areas_object(areas)
                     .ok_or_else(|| self.error_1004(link.span, "Range: the areas of one Range are on one sheet".into()))
@@ -585,7 +594,13 @@ impl Interp<'_, '_> {
                     let why = format!("Range(\"{t}\", …): a corner is one cell or one area, not a list of areas");
                     return Err(self.fault_at(link.span, why));
                 }
-                Operand::Value(Value::Text(t)) => self.resolve(sheet, &t, link.span)?,
+                Operand::Value(Value::Text(t)) => {
+                    let (s, r) = self.resolve(sheet, &t, link.span)?;
+                    match origin {
+                        Some(at) => (sheet, self.relative_to(s == sheet, r, at, link)?),
+                        None => (s, r),
+                    }
+                }
                 Operand::Value(v) => {
                     let shown = print_text(&v);
                     return Err(self.fault_at(link.span, format!("Range needs an address or a name, not {shown}")));
@@ -606,6 +621,33 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// `r` (an address read from A1) read from `at` instead, for [`Interp::range`] of a range:
+    /// `Range("B2:D6").Range("A3")` is B4. An address on another sheet, or one the move takes
+    /// off the sheet, is run-time error 1004 as Excel's failing Range is.
+    fn relative_to(&self, same_sheet: bool, r: Rect, at: Pos, link: &Link) -> Run<Rect> {
+        if !same_sheet {
+            let why = format!("{}: an address read from a range is on the range's own sheet", link.name);
+            return Err(self.error_1004(link.span, why));
+        }
+        let moved = |p: Pos| item(Rect::cell(at), &[i64::from(p.row) + 1, i64::from(p.col) + 1]);
+        match (moved(r.first), moved(r.last)) {
+            (Ok(first), Ok(last)) => Ok(Rect::new(first, last)),
+            _ => Err(self.error_1004(link.span, format!("{}: the range would be off the sheet", link.name))),
+        }
+    }
+
+    /// Every area of `list` (from `Range("A1,C3")`) read from `at`, as [`Interp::relative_to`].
+    fn areas_from(&self, list: Obj, sheet: SheetId, at: Pos, link: &Link) -> Run<Obj> {
+        let areas: Vec<Rect> = match &list {
+            Obj::Range(_, r) => vec![*r],
+            Obj::Areas(_, areas) => areas.to_vec(),
+            _ => return Ok(list),
+        };
+        let on_sheet = matches!(list, Obj::Range(s, _) | Obj::Areas(s, _) if s == sheet);
+        let moved = areas.into_iter().map(|r| self.relative_to(on_sheet, r, at, link)).collect::<Run<Vec<_>>>()?;
+        Ok(super::areas::range_of(sheet, moved))
+    }
+
     /// Address text or a defined name, read as a formula on `sheet` would read it.
     pub(super) fn resolve(&self, sheet: SheetId, text: &str, span: Span) -> Run<(SheetId, Rect)> {
         let parsed = self.wb.borrow().parse_at(text, sheet, Pos::new(0, 0));
@@ -617,14 +659,22 @@ impl Interp<'_, '_> {
         }
     }
 
-    /// `Cells(row, column)` from the top-left of `origin`; the column may be letters.
+    /// `Cells(row, column)` from the top-left of `origin`; the column may be letters. A row
+    /// left out (`r.Cells(, 3)`, `r(, j)`) is the range's first row: "Range.Item property"
+    /// gives no rule for it, and the modules that write it read a row's j-th cell
+    /// (`For Each r In t.Rows: q = r.Cells(, 1)`) or a column's letter (`Cells(, c).Address`).
     fn cells(&self, ctx: &mut Ctx, sheet: SheetId, origin: Rect, link: &Link) -> Run<Obj> {
         let values = self.values(ctx, link)?;
         if values.is_empty() {
             return Ok(Obj::Range(sheet, if origin.is_cell() { whole_sheet() } else { origin }));
         }
+        let row_left_out = matches!(link.args.as_deref(), Some([row, _]) if row.value.kind == ExprKind::Missing);
         let mut index = Vec::new();
         for (i, v) in values.iter().enumerate() {
+            if i == 0 && row_left_out {
+                index.push(1);
+                continue;
+            }
             let letters = match v {
                 Value::Text(t) if i == 1 => column_index(&t.to_ascii_uppercase()).map(|c| c as i64 + 1),
                 _ => None,
@@ -715,6 +765,7 @@ impl Interp<'_, '_> {
                 }
             }
             "cells" | "item" => self.cells(ctx, sheet, rect, link),
+            "range" => self.range(ctx, sheet, Some(rect.first), link),
             "end" => {
                 let direction = match self.indexes(ctx, link)?.as_slice() {
                     [d] => Direction::of(*d),
