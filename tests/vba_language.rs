@@ -753,6 +753,27 @@ fn the_windows_and_sheets_application_reaches_the_worksheet_functions() {
     assert_eq!(out, vec!["a b| 9 "]);
 }
 
+/// "Application.WorksheetFunction property": "Returns the WorksheetFunction object", which a
+/// module keeps in a variable (`Dim wsf As Object: Set wsf = Application.WorksheetFunction`,
+/// then `wsf.Trim(wsf.Clean(wsf.Substitute(v, Chr(160), "")))` in a real module, the-mad-statter's
+/// I2DB_TRIM); each member is the worksheet function, raising run-time error 1004 for an error
+/// result as WorksheetFunction's members do ("WorksheetFunction object"). TypeName is
+/// "WorksheetFunction". A variable also Set to something else is refused by name when it calls
+/// one, not run as some other object.
+#[test]
+fn a_variable_set_to_worksheetfunction_calls_the_worksheet_functions() {
+    let out = printed(
+        "    Dim wsf As Object, wf As WorksheetFunction\n    Set wsf = Application.WorksheetFunction\n    Set wf = WorksheetFunction\n\
+         \x20   Debug.Print wsf.Max(3, 7, 5); wf.Min(4, 2); TypeName(wsf); \" [\" & wsf.Trim(wsf.Clean(\"  a \" & Chr(7) & \"  b \")) & \"]\"\n\
+         \x20   On Error Resume Next\n    Debug.Print wf.Match(9, Array(1, 2), 0)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(out, vec![" 7  2 WorksheetFunction [a b]", " 1004 "]);
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Main()\n    Dim o As Object\n    Set o = WorksheetFunction\n    Set o = Sheets(1)\n    x = o.Max(1, 2)\nEnd Sub\n";
+    let e = vba::run(&mut wb, src, "test.bas", &RunOptions::default()).unwrap_err();
+    assert!(e.message.contains("WorksheetFunction.Max") || e.message.contains("Max"), "{e}");
+}
+
 /// "Worksheet.Application property", "Range.Application property": each "Returns an
 /// Application object that represents the Microsoft Excel application", so a worksheet function
 /// reached through a sheet or a range the macro names or holds in a variable is Application's

@@ -643,6 +643,7 @@ fn object_type_name(obj: &Obj) -> &'static str {
         Obj::Workbook => "Workbook",
         Obj::App => "Application",
         Obj::Err => "ErrObject",
+        Obj::SheetFunctions => "WorksheetFunction",
         Obj::Store(h) => match h.class() {
             Class::Collection => "Collection",
             Class::Dictionary => "Dictionary",

@@ -174,6 +174,7 @@ impl Interp<'_, '_> {
         }
         match name.as_str() {
             "application" => Ok(Obj::App),
+            "worksheetfunction" if link.args.is_none() => Ok(Obj::SheetFunctions),
             "thisworkbook" | "activeworkbook" => Ok(Obj::Workbook),
             "me" => Ok(match self.me() {
                 Some(object) => Obj::Instance(object),
@@ -247,6 +248,19 @@ impl Interp<'_, '_> {
         )
     }
 
+    /// A worksheet function called through an object the parser could not tell is
+    /// WorksheetFunction (a variable also set to something else, an argument): refused by
+    /// name, as ncsheet resolves a worksheet function where it is written.
+    #[inline(never)]
+    fn sheet_function_through_object(&self, link: &Link) -> crate::vba::interp::Fault {
+        let why = format!(
+            "WorksheetFunction.{}: a worksheet function is called as WorksheetFunction.{0}(…), or through a variable \
+             the project only ever Sets to WorksheetFunction",
+            link.name
+        );
+        self.unsupported(link.span, why)
+    }
+
     pub(super) fn member(&self, ctx: &mut Ctx, obj: Obj, link: &Link) -> Run<Obj> {
         let obj = self.alive(obj, link.span)?;
         if let Some(family) = self.family_member(&obj, link) {
@@ -282,6 +296,7 @@ impl Interp<'_, '_> {
                 // not modelled.
                 "getsaveasfilename" | "getopenfilename" => self.file_name_dialog(ctx, link),
                 "filedialog" => Err(self.no_dialog(link)),
+                "worksheetfunction" if link.args.is_none() => Ok(Obj::SheetFunctions),
                 _ => self.unmodelled(&Obj::App, link),
             },
             Obj::Workbook => match name.as_str() {
@@ -331,6 +346,7 @@ impl Interp<'_, '_> {
                 _ => Err(self.no_member(&Obj::Debug, link)),
             },
             Obj::Err => self.err_member(ctx, link),
+            Obj::SheetFunctions => Err(self.sheet_function_through_object(link)),
             Obj::Store(h) => self.store_member(ctx, h, link),
             Obj::Files(f) => self.file_member(ctx, f, link),
             Obj::Instance(object) => self.instance_member(ctx, &object, link),

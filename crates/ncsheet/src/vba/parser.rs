@@ -114,6 +114,7 @@ pub fn parse_module_with_files(
     let mut b = Build::new(src, sheets, &items, parts)?;
     b.objects = objects;
     b.files = files;
+    b.sheet_function_vars = super::resolve::sheet_function_aliases(src);
     b.declared =
         items.iter().filter(|i| i.as_rule() == Rule::declare_stmt).filter_map(|i| declared_name(i.as_str())).collect();
     let type_names = items.iter().filter(|i| i.as_rule() == Rule::type_def);
@@ -388,6 +389,9 @@ pub(super) struct Build<'s> {
     whole_consts: RefCell<std::collections::HashMap<(usize, String), f64>>,
     /// The names of the module's `Declare`d DLL procedures, lower case.
     pub(super) declared: std::collections::HashSet<String>,
+    /// The variables every `Set` of the project sets to Excel's WorksheetFunction object:
+    /// `wf.Max(…)` is `WorksheetFunction.Max(…)` (`resolve.rs`, `sheet_function_aliases`).
+    pub(super) sheet_function_vars: std::collections::HashSet<String>,
     /// The run has files (`files.rs`): file statements and functions are built, not refused.
     pub(super) files: bool,
     lines: Lines,
@@ -501,6 +505,7 @@ impl<'s> Build<'s> {
             with_subjects: RefCell::new(Vec::new()),
             whole_consts: RefCell::new(Default::default()),
             declared: Default::default(),
+            sheet_function_vars: Default::default(),
             files: false,
             types: RefCell::new(std::collections::HashMap::new()),
             enums: items.iter().filter(|i| i.as_rule() == Rule::enum_def).map(enum_names).collect(),

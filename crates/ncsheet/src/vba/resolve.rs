@@ -821,6 +821,7 @@ impl Build<'_> {
             let link = path.links.pop().expect("two links");
             return self.single(pair, link, statement, end);
         }
+        self.name_sheet_functions(&mut path);
         if let Some(call) = self.qualified_call(pair, &mut path)? {
             return Ok(call);
         }
@@ -893,6 +894,15 @@ impl Build<'_> {
             }
         }
         Ok(())
+    }
+
+    /// `wsf.Trim(…)` with `wsf` a variable the project only Sets to WorksheetFunction
+    /// ([`sheet_function_aliases`]): the path `WorksheetFunction.Trim(…)`.
+    fn name_sheet_functions(&self, path: &mut Path) {
+        let [first, _, ..] = path.links.as_mut_slice() else { return };
+        if first.args.is_none() && self.sheet_function_vars.contains(&first.name.to_ascii_lowercase()) {
+            first.name = "WorksheetFunction".into();
+        }
     }
 
     /// `VBA.Sqr(x)`, `WorksheetFunction.Sum(…)`, `Application.WorksheetFunction.Sum(…)`:
@@ -1323,6 +1333,39 @@ impl Build<'_> {
         let at = start(pair);
         Ok(self.node(Node::Bound { upper, of, dim, span: self.span(at) }, at, end))
     }
+}
+
+/// The variables (lower case) that every `Set` of the project's source sets to Excel's
+/// WorksheetFunction object (`Set wsf = Application.WorksheetFunction`, `Set wf =
+/// WorksheetFunction`, "Application.WorksheetFunction property": "Returns the
+/// WorksheetFunction object"): `wsf.Trim(…)` calls the worksheet function as
+/// `WorksheetFunction.Trim(…)` does. A variable also set to anything else is not one.
+pub(super) fn sheet_function_aliases(src: &str) -> std::collections::HashSet<String> {
+    let mut aliases = std::collections::HashSet::new();
+    let mut others = std::collections::HashSet::new();
+    let statements = src.lines().flat_map(|line| line.split(':'));
+    for statement in statements {
+        let Some((name, value)) = set_statement(statement) else { continue };
+        let value: String = value.split_whitespace().collect::<String>().to_ascii_lowercase();
+        let worksheet_function =
+            matches!(value.as_str(), "worksheetfunction" | "application.worksheetfunction" | "excel.worksheetfunction");
+        if worksheet_function { &mut aliases } else { &mut others }.insert(name);
+    }
+    aliases.retain(|name| !others.contains(name));
+    aliases
+}
+
+/// `Set name = value` as written in one statement: the name in lower case and the value's
+/// text; `None` for any other statement.
+fn set_statement(statement: &str) -> Option<(String, &str)> {
+    let statement = statement.trim_start();
+    let rest = statement.get(..4).filter(|w| w.eq_ignore_ascii_case("set "))?;
+    let (name, value) = statement[rest.len()..].split_once('=')?;
+    let name = name.trim();
+    if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || c == '_') {
+        return None;
+    }
+    Some((name.to_ascii_lowercase(), value.split('\'').next().unwrap_or(value)))
 }
 
 /// What a With block's object is, as far as the parser resolves a `.Member` in it itself.

@@ -255,6 +255,10 @@ pub enum Obj {
     Sheets,
     Workbook,
     App,
+    /// Excel's WorksheetFunction object (`Set wf = Application.WorksheetFunction`): its
+    /// members are the worksheet functions, called through a variable set to it by the names
+    /// the parser resolves (`resolve.rs`, `sheet_function_aliases`).
+    SheetFunctions,
     Nc,
     Debug,
     /// `Err`: the last trapped error.
@@ -302,6 +306,7 @@ impl Obj {
             Obj::Nc => "Nc",
             Obj::Debug => "Debug",
             Obj::Err => "Err",
+            Obj::SheetFunctions => "WorksheetFunction",
             Obj::Record(..) => "a Type value",
             Obj::Files(super::files::FileObj::System) => "a FileSystemObject",
             Obj::Files(super::files::FileObj::Stream(_)) => "a TextStream",
