@@ -531,6 +531,107 @@ fn structured_references_follow_a_table_a_macro_grew() {
     }
 }
 
+/// The value LibreOffice cached in cell `cell` of part `sheet` of package `file`.
+fn cached_in(file: &std::path::Path, sheet: &str, cell: &str) -> String {
+    let xml = package_part(file, sheet);
+    let c = xml.split(&format!("<c r=\"{cell}\"")).nth(1).and_then(|c| c.split("</c>").next()).unwrap_or_default();
+    c.split("<v>").nth(1).and_then(|v| v.split("</v>").next()).unwrap_or_default().to_string()
+}
+
+/// A header typed over renames its column, and a table renamed keeps its formulas: "When a
+/// header is changed, all formula references to that column are automatically adjusted";
+/// "When you enter a header value that is the same as another header in the same Table,
+/// Excel appends a number" (Barresse and Jones, *Excel Tables*, ch. 2, "The Header Row");
+/// an emptied header is `Column1`, as Excel fills it in; "ListObject.Name property",
+/// "ListColumn.Name property" (read/write). Use!A1's SUM(Parts[Qty]) stays 17 (the value in
+/// LibreOffice's own save, tables.lo.xlsx) as SUM(Items[Quantity]), F2's
+/// `[@Qty]*[@[Unit Price]]` stays 2 × 1.5 = 3, and LibreOffice reading the saved package,
+/// whose table part names the new columns, computes both again.
+#[test]
+fn a_header_typed_over_and_a_table_renamed_carry_the_formulas_naming_them() {
+    let body = "    Dim lo As ListObject\n    Set lo = Worksheets(\"Parts Data\").ListObjects(1)\n    \
+                Range(\"B1\").Value = \"Quantity\"\n    lo.Name = \"Items\"\n    \
+                Range(\"C1\").Value = \"quantity\"\n    lo.ListColumns(6).Name = \"Amount\"\n    \
+                Range(\"E1\").ClearContents\n    Range(\"D3\").Formula = \"=[@Quantity]*2\"\n    \
+                Debug.Print Worksheets(\"Use\").Range(\"A1\").Formula; Worksheets(\"Use\").Range(\"A1\").Value; \
+                Range(\"C1\").Value; \" \"; Range(\"F2\").Formula; Range(\"F2\").Value; Range(\"E1\").Value\n    \
+                Debug.Print Range(\"H5\").Formula; \" \"; Range(\"F6\").Formula; \" \"; \
+                Worksheets(\"Use\").Range(\"A7\").Formula; lo.ListColumns(2).Name; Range(\"D3\").Value";
+    let (out, _) = printed_on_tables(body);
+    assert_eq!(
+        out,
+        vec![
+            "=SUM(Items[Quantity]) 17 quantity2 =Items[@Quantity]*Items[@quantity2] 3 Column1",
+            "=Items[@Column1] =SUBTOTAL(109,Items[Amount]) =ROWS(Items)Quantity 6 ",
+        ]
+    );
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let (part, saved, dir) = saved_table_part(&data.join("libreoffice/tables.xlsx"), body);
+    for name in [r#"displayName="Items""#, r#"name="Quantity""#, r#"name="quantity2""#, r#"name="Amount""#] {
+        assert!(part.contains(name), "{name}: {part}");
+    }
+    let sheet = package_part(&saved, "xl/worksheets/sheet2.xml");
+    assert!(sheet.contains("<f>SUM(Items[Quantity])</f>"), "{sheet}");
+    // `[@Quantity]` typed in D3, a cell of the table, is stored as Excel stores it.
+    let parts = package_part(&saved, "xl/worksheets/sheet1.xml");
+    assert!(parts.contains("<f>Items[[#This Row],[Quantity]]*2</f>"), "{parts}");
+    if let Some(lo) = common::xlsx::libreoffice_recalculated(&saved, dir.path()) {
+        assert_eq!(cached_in(&lo, "xl/worksheets/sheet2.xml", "A1"), "17");
+        assert_eq!(cached_in(&lo, "xl/worksheets/sheet1.xml", "F2"), "3");
+        assert_eq!(cached_in(&lo, "xl/worksheets/sheet1.xml", "D3"), "6");
+    }
+}
+
+/// A structured reference without its table's name (`[@Qty]`) is read against the table
+/// holding its cell ("Using structured references with Excel tables": inside a table Excel
+/// writes `[@[Sales Amount]]`); typed in a cell of no table it names nothing, and the macro
+/// is told which cell.
+#[test]
+fn a_structured_reference_without_its_tables_name_is_refused_outside_a_table() {
+    let (out, _) = printed_on_tables(
+        "    On Error Resume Next\n    Range(\"J2\").Formula = \"=[@Qty]*2\"\n    \
+         Debug.Print Err.Number; Err.Description",
+    );
+    assert_eq!(out.len(), 1, "{out:?}");
+    assert!(out[0].contains("J2") && out[0].contains("in none"), "{out:?}");
+}
+
+/// "ListObject.ShowTotals property" (read/write) as Excel's Total Row: hidden, the totals
+/// row's cells go and the cells under the table move up (A8 to A7), `Parts[[#Totals],[Qty]]`
+/// names nothing (#REF!, error 2023) while Parts[Qty] still sums 17; shown again, the cells
+/// under the table move down and the row holds what the file's table part says of it
+/// (`totalsRowLabel="Total"`, `totalsRowFunction="sum"`: SUBTOTAL(109,Parts[Qty]), 17 as
+/// LibreOffice cached it in tables.lo.xlsx).
+#[test]
+fn show_totals_hides_and_shows_a_tables_totals_row_moving_the_cells_under_it() {
+    let (out, _) = printed_on_tables(
+        "    Dim lo As ListObject\n    Set lo = Worksheets(\"Parts Data\").ListObjects(1)\n    \
+         Range(\"A8\").Value = \"below\"\n    lo.ShowTotals = False\n    \
+         Debug.Print lo.ShowTotals; lo.Range.Address; Range(\"A7\").Value; \
+         Worksheets(\"Use\").Range(\"A4\").Value; Worksheets(\"Use\").Range(\"A1\").Value\n    \
+         lo.ShowTotals = True\n    \
+         Debug.Print lo.ShowTotals; lo.Range.Address; Range(\"A8\").Value; Range(\"A6\").Value; \
+         Range(\"B6\").Formula; Range(\"B6\").Value; Worksheets(\"Use\").Range(\"A4\").Value",
+    );
+    assert_eq!(
+        out,
+        vec!["False$A$1:$F$5belowError 2023 17 ", "True$A$1:$F$6belowTotal=SUBTOTAL(109,Parts[Qty]) 17  17 ",]
+    );
+}
+
+/// A package written anew keeps a calculated column's formula (`calculatedColumnFormula`):
+/// POI's ExcelTables.xlsx table G1:I4 has AgeGroup `INT(H2/10)`; a row inserted above it
+/// moves it to G2:I5, and the part written anew still names the formula, read at its first
+/// data row (`INT(H3/10)`), as Excel would store it.
+#[test]
+fn a_table_written_anew_keeps_its_calculated_columns_formula() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/excel-corpus/public/poi/test-data_spreadsheet_ExcelTables.xlsx");
+    let (part, _saved, _dir) = saved_table_part(&path, "    Rows(1).Insert");
+    assert!(part.contains(r#"ref="G2:I5""#), "{part}");
+    assert!(part.contains("<calculatedColumnFormula>INT(H3/10)</calculatedColumnFormula>"), "{part}");
+}
+
 /// "Use calculated columns in an Excel table" (Microsoft: a calculated column's formula "is
 /// automatically extended" to the rows added): POI's ExcelTables.xlsx table G1:I4 has the
 /// calculated column AgeGroup, `INT(H2/10)` (its `calculatedColumnFormula`); the row

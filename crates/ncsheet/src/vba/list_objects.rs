@@ -8,8 +8,9 @@
 //! collections.
 //!
 //! `ListRow.Delete`, `ListObject.Resize`, `.Delete`, `.Unlist`, `ListObjects.Add` (a range's
-//! cells made a table, its header row as Excel makes it) and setting a table's `Name` and
-//! `TableStyle` change the workbook's tables, which a saved file writes.
+//! cells made a table, its header row as Excel makes it) and setting a table's `Name`,
+//! `TableStyle` and `ShowTotals` or a column's `Name` change the workbook's tables, which a
+//! saved file writes; a rename carries the formulas naming the table or the column.
 //!
 //! An object names its table by the workbook's id for it (`TableShape::id`), not by a copy of
 //! its rectangle nor by its name, so a row added through one variable is seen through every
@@ -457,13 +458,28 @@ impl Interp<'_, '_> {
         Ok(names)
     }
 
-    /// `lo.Name = "Parts"`, `lo.TableStyle = "TableStyleLight9"` ("ListObject.Name property",
-    /// "ListObject.TableStyle property"); a table name Excel would refuse is error 1004.
+    /// `lo.Name = "Parts"`, `lo.TableStyle = "TableStyleLight9"`, `lo.ShowTotals = True`
+    /// ("ListObject.Name property", "ListObject.TableStyle property", "ListObject.ShowTotals
+    /// property"); a table name Excel would refuse, or a totals row that cannot move the cells
+    /// under the table, is error 1004.
+    /// `lc.Name = "Quantity"` ("ListColumn.Name property") names the column as its header
+    /// cell typed over does; the formulas naming the table or the column follow either.
     pub(super) fn set_table_member(&self, obj: &TableObj, link: &Link, value: &crate::formula::ast::Expr) -> Run<()> {
+        if let (TableObj::Column(id, col), "name") = (obj, lower(link).as_str()) {
+            let text = print_text(&self.eval(value)?);
+            self.book_mut()?.set_table_column_name(*id, *col as usize, &text);
+            return Ok(());
+        }
         let TableObj::Table(id) = obj else {
             return Err(self.fault_at(link.span, format!("cannot assign to {}.{}", obj.class(), link.name)));
         };
         let t = self.table_shape(*id, link.span)?;
+        if lower(link) == "showtotals" {
+            let show = self.truth(value, "ShowTotals")?;
+            return self.book_mut()?.set_table_totals(t.id, show).map_err(|e| {
+                self.error_1004(link.span, format!("ShowTotals property of ListObject class: {}", one_line(&e)))
+            });
+        }
         let text = print_text(&self.eval(value)?);
         match lower(link).as_str() {
             "name" | "displayname" => self.book_mut()?.rename_table(t.id, &text).map_err(|e| {

@@ -1100,7 +1100,11 @@ impl Interp<'_, '_> {
             }
             (Obj::Hyperlink(sheet, id), _) => self.set_hyperlink_member(*sheet, *id, link, value),
             // A ListObject's Name and TableStyle; a ListRow's `lr.Range(1) = v` writes the cell.
-            (Obj::Table(table @ super::list_objects::TableObj::Table(_)), "name" | "displayname" | "tablestyle") => {
+            (
+                Obj::Table(table @ super::list_objects::TableObj::Table(_)),
+                "name" | "displayname" | "tablestyle" | "showtotals",
+            )
+            | (Obj::Table(table @ super::list_objects::TableObj::Column(..)), "name") => {
                 self.set_table_member(table, link, value)
             }
             (Obj::Record(var, path), _) => {
@@ -1169,6 +1173,8 @@ impl Interp<'_, '_> {
             }
         };
         let style = if r1c1 { "R1C1" } else { "A1" };
+        // `[@Qty]` names the table holding the range's first cell.
+        let parsed = parsed.and_then(|mut tree| wb.name_own_table(&mut tree, sheet, rect.first).map(|()| tree));
         let tree = parsed
             .map_err(|e| self.fault_at(span, format!("{text} ({style}): column {}: {}", e.column(text), e.message)))?;
         wb.fill_formula_tree_deferred(sheet, rect, tree);

@@ -543,7 +543,9 @@ impl Workbook {
             let stored = self.set_input_deferred(sheet, pos, text);
             debug_assert!(stored.is_ok(), "only a formula can fail");
         }
-        Ok(self.recalculate_edit(sheet, pos))
+        let problems = self.recalculate_edit(sheet, pos);
+        self.follow_header_edits(sheet, Rect::new(pos, pos));
+        Ok(problems)
     }
 
     /// Sets a cell to a formula given as a tree (as if typed at `pos`) and recalculates.
@@ -569,7 +571,8 @@ impl Workbook {
 
     /// Recalculates after [`Workbook::set_input_deferred`] of the cells of `rect` only: what
     /// depends on them (and the volatile cells), not every formula, so that a macro filling
-    /// a column one cell at a time stays linear.
+    /// a column one cell at a time stays linear. A table's header cell among them names its
+    /// column ([`Workbook::follow_header_edits`]).
     pub fn recalculate_rect(&mut self, sheet: SheetId, rect: Rect) {
         let mut changed = Vec::new();
         if rect.rows() as u64 * rect.cols() as u64 <= self.cells.len() as u64 {
@@ -582,6 +585,7 @@ impl Workbook {
             }));
         }
         self.recalculate_from(changed);
+        self.follow_header_edits(sheet, rect);
     }
 
     /// Sets a cell without recalculating; call [`Workbook::recalculate`] after a batch.
@@ -930,9 +934,13 @@ impl Workbook {
     }
 
     /// Parses formula text as if typed in `pos` (used by the macro language too).
-    pub fn parse_at(&self, text: &str, _sheet: SheetId, pos: Pos) -> Result<Expr, ParseError> {
+    /// A structured reference without its table's name (`[@Qty]`) names the table holding
+    /// `pos` ([`Workbook::name_own_table`]).
+    pub fn parse_at(&self, text: &str, sheet: SheetId, pos: Pos) -> Result<Expr, ParseError> {
         let sheets = |name: &str| self.sheet_id(name);
-        parse_formula(text, &ParseContext { at: pos, functions: &Registry, sheet: &sheets })
+        let mut tree = parse_formula(text, &ParseContext { at: pos, functions: &Registry, sheet: &sheets })?;
+        self.name_own_table(&mut tree, sheet, pos)?;
+        Ok(tree)
     }
 
     /// Defines (or redefines) a name, workbook-wide or for one sheet. References in it are
@@ -1482,6 +1490,9 @@ pub enum ColumnTotal {
     /// A function by its name in the file (`sum`, `average`, `count`, `countNums`, `max`,
     /// `min`, `stdDev`, `var`), which the cell's SUBTOTAL formula computes.
     Function(String),
+    /// A formula of its own (`totalsRowFunction="custom"` and its `totalsRowFormula`), as the
+    /// file stores it (without `=`).
+    Formula(String),
 }
 
 impl Workbook {

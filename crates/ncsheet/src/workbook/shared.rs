@@ -297,6 +297,8 @@ enum Class {
     Number,
     /// A letter, `$`, `_` or `\`: the start of a cell address, a function or a name.
     Word,
+    /// `[`: a structured reference's items (`Parts[Qty]`), copied whole to the closing `]`.
+    Bracket,
     /// Part of a character past ASCII: copied.
     Wide,
 }
@@ -309,6 +311,7 @@ const CLASSES: [Class; 256] = {
         let b = c as u8;
         table[c] = match b {
             b'"' | b'\'' => Class::Quote,
+            b'[' => Class::Bracket,
             b'0'..=b'9' | b'.' => Class::Number,
             b'$' | b'A'..=b'Z' | b'a'..=b'z' | b'_' | b'\\' => Class::Word,
             0x80..=0xff => Class::Wide,
@@ -425,6 +428,12 @@ fn scan_key(
                 literals.push((out.len(), out.len() + end - i));
                 end
             }
+            // `T[A1]` names column A1 of table T, not a cell. Without a table's name before it
+            // (`[@Qty]`) the table is the one holding the formula's cell, which no key holds.
+            Class::Bracket => match bracket_end(b, i) {
+                Some(end) if out.last().is_some_and(|&c| IN_WORD[c as usize]) => end,
+                _ => return false,
+            },
             Class::Word => match push_word(b, i, at, out) {
                 Some(end) => {
                     i = end;
@@ -459,8 +468,10 @@ fn push_word(b: &[u8], start: usize, at: Pos, out: &mut Vec<u8>) -> Option<usize
     let end = b[start..].iter().position(|&c| !IN_WORD[c as usize]).map_or(b.len(), |n| start + n);
     let word = &b[start..end];
     let next = next_non_space(b, end);
+    // A word right before `[` is a table's name, whatever it looks like.
+    let table = b.get(end) == Some(&b'[');
     match cell_address(word) {
-        Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) => {
+        Some(cell) if !matches!(next, Some(b'(') | Some(b'!')) && !table => {
             out.push(1);
             push_coord(out, cell.row_abs, cell.row, at.row);
             out.push(1);
@@ -474,6 +485,28 @@ fn push_word(b: &[u8], start: usize, at: Pos, out: &mut Vec<u8>) -> Option<usize
         _ => append(out, word),
     }
     Some(end)
+}
+
+/// The end of the structured reference's items opening at `start` (past its closing `]`):
+/// brackets nest, and `'` escapes the character after it (`[Col'[1']]`).
+fn bracket_end(b: &[u8], start: usize) -> Option<usize> {
+    let mut depth = 0;
+    let mut i = start;
+    while i < b.len() {
+        match b[i] {
+            b'\'' => i += 1,
+            b'[' => depth += 1,
+            b']' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(i + 1);
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
 }
 
 fn quoted_end(b: &[u8], start: usize) -> Option<usize> {
@@ -642,5 +675,19 @@ mod tests {
         assert_eq!((c.row, c.col, c.row_abs, c.col_abs), (2, 1, false, false));
         // Sheet names followed by ! are not cells.
         assert_ne!(relative_key("=AB1!A1", at), relative_key("=AB2!A2", below));
+    }
+
+    #[test]
+    fn a_structured_reference_is_kept_whole_in_the_key() {
+        let (at, below) = (Pos::new(0, 0), Pos::new(1, 0));
+        // Columns named A1 and A2 of table T are two columns, not one cell moved along.
+        assert_ne!(relative_key("=T[A1]", at), relative_key("=T[A2]", below));
+        // A number in a column's name is no literal another copy may change.
+        assert_eq!(relative_key("=T[[Col 2]]+1", at).as_deref(), Some("=T[[Col 2]]+1"));
+        // `'` escapes a bracket in a name; a table's name like a cell's is a name.
+        assert_eq!(relative_key("=T1[Col'[1']]", at).as_deref(), Some("=T1[Col'[1']]"));
+        // Without its table's name the reference reads the table of its cell: no key.
+        assert_eq!(relative_key("=[@Qty]*2", at), None);
+        assert_eq!(relative_key("=SUM([Qty])", at), None);
     }
 }

@@ -9,12 +9,13 @@
 //! every data row. A file saved from the workbook writes the tables as they are then.
 
 use super::shift::{Axis, SheetEdit};
-use super::{TableShape, Workbook, WorkbookError};
+use super::{ColumnTotal, TableShape, Workbook, WorkbookError};
 use std::rc::Rc;
 
 use crate::eval::Value;
 use crate::formula::address::{Pos, Rect};
 use crate::formula::ast::{Expr, ExprKind, SheetId, Span, TableRef, TableRows, XlError};
+use crate::formula::parse::ParseError;
 
 /// What an edit does to one table.
 enum TableFate {
@@ -53,6 +54,38 @@ impl Workbook {
         };
         let table = table.ok_or(XlError::Name)?;
         part_of_table(table, r, pos).map(|rect| (table.sheet, rect))
+    }
+
+    /// Gives each structured reference of `tree` written without a table's name (`[@Qty]`,
+    /// `[Qty]`) the table holding `pos` of `sheet`, as Excel reads what is typed in a cell of a
+    /// table (and stores it: `Parts[[#This Row],[Qty]]`). Outside every table such a
+    /// reference is refused, as Excel refuses the formula.
+    pub fn name_own_table(&self, tree: &mut Expr, sheet: SheetId, pos: Pos) -> Result<(), ParseError> {
+        let mut unnamed = None;
+        tree.visit(&mut |e| {
+            if matches!(&e.kind, ExprKind::Table(r) if r.table.is_none()) {
+                unnamed = unnamed.or(Some(e.span));
+            }
+        });
+        let Some(span) = unnamed else { return Ok(()) };
+        let Some(t) = self.table_list.iter().find(|t| t.sheet == sheet && t.rect.contains(pos)) else {
+            let message = format!(
+                "a structured reference without a table's name ([@Qty], [Qty]) is read in a cell of a table, \
+                 and {} is in none: write the table's name before it (Parts[@Qty])",
+                self.cell_name(sheet, pos)
+            );
+            return Err(ParseError { offset: span.start as usize, message });
+        };
+        let name: Rc<str> = t.name.as_str().into();
+        tree.visit_mut(&mut |e| {
+            if let ExprKind::Table(r) = &e.kind {
+                if r.table.is_none() {
+                    let named = TableRef { table: Some(name.clone()), ..(**r).clone() };
+                    e.kind = ExprKind::Table(Rc::new(named));
+                }
+            }
+        });
+        Ok(())
     }
 
     /// A table's name used as a defined name (`ROWS(Parts)`, `VLOOKUP(x,Parts,2)`): its data.
@@ -142,12 +175,240 @@ impl Workbook {
         if !valid {
             return Err(WorkbookError::CannotShift(format!("{name} is not a name Excel takes for a table")));
         }
-        if let Some(t) = self.table_list.iter_mut().find(|t| t.id == id) {
-            t.name = name.to_string();
+        let Some(t) = self.table_list.iter_mut().find(|t| t.id == id) else { return Ok(()) };
+        let old = std::mem::replace(&mut t.name, name.to_string());
+        // A table's name alone (`ROWS(Parts)`) is the table only where no defined name has it.
+        let alone = !self.names.iter().any(|n| n.name.eq_ignore_ascii_case(&old));
+        self.follow_rename(Renamed::Table { old: &old, new: name, alone });
+        self.note_tables_changed();
+        self.recalculate_table_readers();
+        Ok(())
+    }
+
+    /// After cells of `rect` on `sheet` were written (a macro's `.Value =`, a paste, `set`):
+    /// each header cell of a table among them names its column anew, as Excel takes a header
+    /// typed over: "header row values must be constants", "when a header is changed, all
+    /// formula references to that column are automatically adjusted", and "when you enter a
+    /// header value that is the same as another header in the same Table, Excel appends a
+    /// number" (Z. Barresse, K. Jones, *Excel Tables*, ch. 2 "The Header Row"); an emptied
+    /// header is `Column1` (the first such name unused), as Excel fills it in.
+    pub fn follow_header_edits(&mut self, sheet: SheetId, rect: Rect) {
+        if self.table_list.is_empty() {
+            return;
+        }
+        let mut headers: Vec<(u32, usize, Pos)> = Vec::new();
+        for t in self.table_list.iter().filter(|t| t.sheet == sheet && t.header_rows > 0) {
+            let row = t.rect.first.row;
+            if row < rect.first.row || row > rect.last.row {
+                continue;
+            }
+            let (first, last) = (t.rect.first.col.max(rect.first.col), t.rect.last.col.min(rect.last.col));
+            headers.extend((first..=last).map(|col| (t.id, (col - t.rect.first.col) as usize, Pos::new(row, col))));
+        }
+        for (id, index, pos) in headers {
+            self.take_header(id, index, sheet, pos);
+        }
+    }
+
+    /// Header cell `pos` (column `index` of table `id`) as the column's name: made unique
+    /// among the table's other columns, written back as text where it was not that text.
+    fn take_header(&mut self, id: u32, index: usize, sheet: SheetId, pos: Pos) {
+        let Some(t) = self.table_list.iter().find(|t| t.id == id) else { return };
+        let Some(old) = t.columns.get(index).cloned() else { return };
+        let value = self.value(sheet, pos);
+        let typed = header_text(&value);
+        let others: Vec<String> =
+            t.columns.iter().enumerate().filter(|&(i, _)| i != index).map(|(_, c)| c.clone()).collect();
+        let name = unique_column_name(&others, &typed);
+        let as_typed = matches!(&value, Value::Text(t) if **t == *name) && !self.is_formula(sheet, pos);
+        if !as_typed {
+            self.set_value_deferred(sheet, pos, Value::text(name.as_str()));
+            let cell = self.sheets[sheet as usize].get(pos);
+            self.recalculate_from(cell.into_iter().collect());
+        }
+        if name != old {
+            self.rename_table_column(id, index, &name);
+        }
+    }
+
+    /// Names column `index` of table `id` ("ListColumn.Name property") as typing `name` in
+    /// its header cell does ([`Workbook::follow_header_edits`]).
+    pub fn set_table_column_name(&mut self, id: u32, index: usize, name: &str) {
+        let Some(t) = self.table_list.iter().find(|t| t.id == id && index < t.columns.len()) else { return };
+        let (sheet, pos) = (t.sheet, Pos::new(t.rect.first.row, t.rect.first.col + index as u32));
+        if t.header_rows > 0 {
+            self.set_value_deferred(sheet, pos, Value::text(name));
+            self.recalculate_rect(sheet, Rect::new(pos, pos));
+            return;
+        }
+        let others: Vec<String> =
+            t.columns.iter().enumerate().filter(|&(i, _)| i != index).map(|(_, c)| c.clone()).collect();
+        let name = unique_column_name(&others, name);
+        if t.columns[index] != name {
+            self.rename_table_column(id, index, &name);
+        }
+    }
+
+    /// Gives column `index` of table `id` the name `name` (its header cell holds it already):
+    /// the formulas, defined names and the table's own calculated column and totals naming the
+    /// column follow.
+    fn rename_table_column(&mut self, id: u32, index: usize, name: &str) {
+        let Some(t) = self.table_list.iter_mut().find(|t| t.id == id) else { return };
+        let old = std::mem::replace(&mut t.columns[index], name.to_string());
+        for (column, _) in t.calculated.iter_mut() {
+            if column.eq_ignore_ascii_case(&old) {
+                *column = name.to_string();
+            }
+        }
+        for (column, _) in t.totals.iter_mut() {
+            if column.eq_ignore_ascii_case(&old) {
+                *column = name.to_string();
+            }
+        }
+        let table = t.name.clone();
+        self.follow_rename(Renamed::Column { table: &table, old: &old, new: name });
+        self.note_tables_changed();
+        self.recalculate_table_readers();
+    }
+
+    /// Rewrites what names the renamed table or column: the stored formulas (each copy that
+    /// had numbers of its own keeps them), the defined names, and the tables' calculated
+    /// columns' formulas.
+    fn follow_rename(&mut self, rename: Renamed) {
+        let mut slots = Vec::new();
+        for (fid, f) in self.formulas.formulas.iter().enumerate() {
+            let named = f.tables.iter().any(|r| rename.reference(r).is_some())
+                || f.names.iter().any(|(n, _)| rename.name(n).is_some());
+            if let Some(tree) = named.then(|| rename.tree(&f.own_tree())).flatten() {
+                slots.push((fid as u32, super::shared::SharedFormula::new(tree)));
+            }
+        }
+        self.formulas.replace(slots);
+        let mut names_changed = false;
+        for i in 0..self.names.len() {
+            if let Some(tree) = rename.tree(&self.names[i].expr) {
+                self.names[i].expr = Rc::new(tree);
+                names_changed = true;
+            }
+        }
+        if let Some(log) = self.changes.as_mut() {
+            log.names |= names_changed;
+        }
+        for at in 0..self.table_list.len() {
+            let t = &self.table_list[at];
+            let home = (t.sheet, Pos::new(t.rect.first.row + t.header_rows, t.rect.first.col));
+            let texts: Vec<Option<String>> =
+                t.calculated.iter().map(|(_, text)| self.renamed_text(text, home, rename)).collect();
+            for ((_, text), renamed) in self.table_list[at].calculated.iter_mut().zip(texts) {
+                if let Some(renamed) = renamed {
+                    *text = renamed;
+                }
+            }
+        }
+    }
+
+    /// Formula text read at `home` with the rename made, as typed (without `=`); `None` when
+    /// it names nothing renamed or does not parse.
+    fn renamed_text(&self, text: &str, home: (SheetId, Pos), rename: Renamed) -> Option<String> {
+        let tree = self.parse_at(text, home.0, home.1).ok()?;
+        rename.tree(&tree).map(|tree| self.print(&tree, home.1))
+    }
+
+    /// Shows or hides the totals row of table `id` ("ListObject.ShowTotals property"), as
+    /// Excel's Total Row: shown, the cells under the table's columns move down a row to make
+    /// room for it and it shows what the table's columns total (what the file's table part
+    /// said, or Excel's default: `Total` under the first column, the last column's SUBTOTAL
+    /// sum, or count when it holds no number); hidden, its cells go and the cells under it
+    /// move up, the columns' totals remembered for when it is shown again.
+    pub fn set_table_totals(&mut self, id: u32, show: bool) -> Result<(), WorkbookError> {
+        let Some(t) = self.table_list.iter().find(|t| t.id == id) else { return Ok(()) };
+        if (t.totals_rows > 0) == show {
+            return Ok(());
+        }
+        let (sheet, rect) = (t.sheet, t.rect);
+        if show {
+            let row = rect.last.row + 1;
+            let below = Rect::new(Pos::new(row, rect.first.col), Pos::new(row, rect.last.col));
+            self.shift_cells(sheet, SheetEdit::cells(below, Axis::Rows, true))?;
+            let at = self.table_list.iter().position(|t| t.id == id).expect("the table");
+            if self.table_list[at].totals.is_empty() {
+                self.table_list[at].totals = self.default_totals(at);
+            }
+            let t = &mut self.table_list[at];
+            (t.totals_rows, t.rect.last.row) = (1, row);
+            self.note_tables_changed();
+            self.recalculate_table_readers();
+            self.write_totals_row(id);
+            return Ok(());
+        }
+        let row = rect.last.row + 1 - t.totals_rows;
+        let totals = Rect::new(Pos::new(row, rect.first.col), Pos::new(rect.last.row, rect.last.col));
+        let at = self.table_list.iter().position(|t| t.id == id).expect("the table");
+        (self.table_list[at].totals_rows, self.table_list[at].rect.last.row) = (0, row - 1);
+        let shifted = self.shift_cells(sheet, SheetEdit::cells(totals, Axis::Rows, false));
+        if shifted.is_err() {
+            (self.table_list[at].totals_rows, self.table_list[at].rect.last.row) =
+                (rect.last.row + 1 - row, rect.last.row);
+            return shifted;
         }
         self.note_tables_changed();
         self.recalculate_table_readers();
         Ok(())
+    }
+
+    /// The totals Excel's Total Row shows on a table that had none: `Total` under its first
+    /// column, under its last the SUBTOTAL sum of it (of a column holding no number, the count).
+    fn default_totals(&self, at: usize) -> Vec<(String, ColumnTotal)> {
+        let t = &self.table_list[at];
+        let mut totals = Vec::new();
+        let Some(last) = t.columns.last() else { return totals };
+        if t.columns.len() > 1 {
+            totals.push((t.columns[0].clone(), ColumnTotal::Label("Total".into())));
+        }
+        let col = t.rect.last.col;
+        let mut data = (t.rect.first.row + t.header_rows)..t.rect.last.row + 1 - t.totals_rows;
+        let numbers = data.any(|row| matches!(self.value(t.sheet, Pos::new(row, col)), Value::Number(_)));
+        totals.push((last.clone(), ColumnTotal::Function(if numbers { "sum" } else { "count" }.into())));
+        totals
+    }
+
+    /// Writes the totals row of table `id`: each column's label, SUBTOTAL or formula.
+    fn write_totals_row(&mut self, id: u32) {
+        let Some(t) = self.table_list.iter().find(|t| t.id == id) else { return };
+        let (sheet, row) = (t.sheet, t.rect.last.row);
+        let mut cells: Vec<(Pos, String)> = Vec::new();
+        for (name, total) in &t.totals {
+            let Some(index) = column_index(t, name) else { continue };
+            let pos = Pos::new(row, t.rect.first.col + index as u32);
+            let column = TableRef {
+                table: Some(t.name.as_str().into()),
+                rows: TableRows { data: true, ..TableRows::default() },
+                columns: Some((name.as_str().into(), name.as_str().into())),
+            };
+            let text = match total {
+                ColumnTotal::Label(label) => label.clone(),
+                ColumnTotal::Function(f) => match subtotal_code(f) {
+                    Some(code) => {
+                        let mut text = format!("=SUBTOTAL({code},");
+                        column.write(&mut text, true);
+                        text.push(')');
+                        text
+                    }
+                    None => continue,
+                },
+                ColumnTotal::Formula(f) => format!("={f}"),
+            };
+            cells.push((pos, text));
+        }
+        let line = Rect::new(Pos::new(row, t.rect.first.col), Pos::new(row, t.rect.last.col));
+        for (pos, text) in cells {
+            if text.starts_with('=') {
+                let _unparsed_kept_as_text = self.set_input_deferred(sheet, pos, &text);
+            } else {
+                self.set_value_deferred(sheet, pos, Value::text(text));
+            }
+        }
+        self.recalculate_rect(sheet, line);
     }
 
     /// Gives the table `id` the look `style` ("ListObject.TableStyle property").
@@ -240,6 +501,7 @@ impl Workbook {
                             t.columns.insert(at + i, name);
                         }
                     }
+                    self.move_calculated(&mut t, rect);
                     t.rect = rect;
                     changed = true;
                     kept.push(t);
@@ -254,6 +516,108 @@ impl Workbook {
             self.note_tables_changed();
             // The edit's recalculation relinks the graph whole (`recalculate_shifted`).
             self.names_unlinked |= !self.table_readers().is_empty();
+        }
+    }
+}
+
+/// The SUBTOTAL function number of a `totalsRowFunction` (ECMA-376 ST_TotalsRowFunction, as
+/// Excel writes its totals: 109 for `sum`, the codes that skip hidden rows).
+fn subtotal_code(function: &str) -> Option<u32> {
+    Some(match function {
+        "average" => 101,
+        "countNums" => 102,
+        "count" => 103,
+        "max" => 104,
+        "min" => 105,
+        "stdDev" => 107,
+        "sum" => 109,
+        "var" => 110,
+        _ => return None,
+    })
+}
+
+/// A table or one of its columns given a new name, which the structured references naming
+/// it follow, as Excel's do.
+#[derive(Clone, Copy)]
+enum Renamed<'a> {
+    /// `alone`: the table's name used alone (`ROWS(Parts)`) names the table.
+    Table {
+        old: &'a str,
+        new: &'a str,
+        alone: bool,
+    },
+    Column {
+        table: &'a str,
+        old: &'a str,
+        new: &'a str,
+    },
+}
+
+impl Renamed<'_> {
+    /// `r` as the rename leaves it; `None` when it names something else. A reference without
+    /// its table's name is never stored (`[@Qty]` typed in a table is read with it).
+    fn reference(&self, r: &TableRef) -> Option<TableRef> {
+        let table = r.table.as_deref()?;
+        match *self {
+            Renamed::Table { old, new, .. } => {
+                table.eq_ignore_ascii_case(old).then(|| TableRef { table: Some(new.into()), ..r.clone() })
+            }
+            Renamed::Column { table: named, old, new } => {
+                let (first, last) = r.columns.as_ref().filter(|_| table.eq_ignore_ascii_case(named))?;
+                let swap = |name: &Rc<str>| if name.eq_ignore_ascii_case(old) { Rc::from(new) } else { name.clone() };
+                let columns = (swap(first), swap(last));
+                let same = Rc::ptr_eq(&columns.0, first) && Rc::ptr_eq(&columns.1, last);
+                (!same).then(|| TableRef { columns: Some(columns), ..r.clone() })
+            }
+        }
+    }
+
+    /// A table's name used alone as a name, renamed with its table.
+    fn name(&self, name: &str) -> Option<Rc<str>> {
+        match *self {
+            Renamed::Table { old, new, alone: true } if name.eq_ignore_ascii_case(old) => Some(new.into()),
+            _ => None,
+        }
+    }
+
+    fn node(&self, e: &Expr) -> Option<ExprKind> {
+        match &e.kind {
+            ExprKind::Table(r) => self.reference(r).map(|r| ExprKind::Table(Rc::new(r))),
+            ExprKind::Name(n) => self.name(n).map(ExprKind::Name),
+            _ => None,
+        }
+    }
+
+    /// `tree` with the rename made; `None` when it names nothing renamed.
+    fn tree(&self, tree: &Expr) -> Option<Expr> {
+        let mut named = false;
+        tree.visit(&mut |e| named |= self.node(e).is_some());
+        if !named {
+            return None;
+        }
+        let mut tree = tree.clone();
+        tree.visit_mut(&mut |e| {
+            if let Some(kind) = self.node(e) {
+                e.kind = kind;
+            }
+        });
+        Some(tree)
+    }
+}
+
+impl Workbook {
+    /// The calculated columns' formulas of table `t`, which are read as at its first data row,
+    /// for the table moved to `rect`: their references move with that row.
+    fn move_calculated(&self, t: &mut TableShape, rect: Rect) {
+        let from = Pos::new(t.rect.first.row + t.header_rows, t.rect.first.col);
+        let to = Pos::new(rect.first.row + t.header_rows, rect.first.col);
+        if from == to {
+            return;
+        }
+        for (_, text) in t.calculated.iter_mut() {
+            if let Ok(tree) = self.parse_at(text, t.sheet, from) {
+                *text = self.print(&tree, to);
+            }
         }
     }
 }

@@ -41,7 +41,7 @@ pub fn changed_table_parts<R: Read + Seek>(
         entry.read_to_end(&mut xml).map_err(|e| format!("{name}: {e}"))?;
         let Some(was) = parse_table(&xml, 0) else { continue };
         let Some(now) = wb.table(&was.name) else {
-            return Ok(Err(Unpatchable(format!("table {} was deleted", was.name))));
+            return Ok(Err(Unpatchable(format!("table {} was renamed or deleted", was.name))));
         };
         let same_shape = now.columns == was.columns
             && now.header_rows == was.header_rows

@@ -161,7 +161,7 @@ pub fn legacy_operand_intersection(tree: &Expr, wb: &Workbook, sheet: SheetId) -
 fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if operand && !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
-        ExprKind::Table(_) if operand => wrap_implicit(e, changed),
+        ExprKind::Table(r) if operand && !one_cell(r) => wrap_implicit(e, changed),
         ExprKind::Binary(op, ..) if operand && is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if operand && names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect_operands(x, wb, sheet, operand, changed),
@@ -192,7 +192,7 @@ fn intersect_operands(e: &mut Expr, wb: &Workbook, sheet: SheetId, operand: bool
 fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
     match &mut e.kind {
         ExprKind::Ref(r) if !matches!(r.shape, RefShape::Cell(_)) => wrap_implicit(e, changed),
-        ExprKind::Table(_) => wrap_implicit(e, changed),
+        ExprKind::Table(r) if !one_cell(r) => wrap_implicit(e, changed),
         ExprKind::Binary(op, ..) if is_reference_op(*op) => wrap_implicit(e, changed),
         ExprKind::Name(n) if names_a_range(wb, n, sheet) => wrap_implicit(e, changed),
         ExprKind::Paren(x) => intersect(x, wb, sheet, changed),
@@ -214,6 +214,12 @@ fn intersect(e: &mut Expr, wb: &Workbook, sheet: SheetId, changed: &mut bool) {
         ExprKind::UnknownCall(_, args) => args.iter_mut().for_each(|arg| intersect(arg, wb, sheet, changed)),
         _ => {}
     }
+}
+
+/// A structured reference to one cell, its own row's in one column (`Parts[@Qty]`), which
+/// Excel never intersects.
+fn one_cell(r: &crate::formula::ast::TableRef) -> bool {
+    r.rows.this_row && r.columns.as_ref().is_some_and(|(first, last)| first.eq_ignore_ascii_case(last))
 }
 
 fn wrap_implicit(e: &mut Expr, changed: &mut bool) {

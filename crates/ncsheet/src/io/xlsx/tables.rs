@@ -54,6 +54,14 @@ pub fn parse_table(xml: &[u8], sheet: SheetId) -> Option<Table> {
                 calculated.push((column.clone(), unescape(text)));
             }
         }
+        // A `custom` total's formula, in the `<tableColumn>` just read.
+        b"totalsRowFormula" => {
+            if let Some((column, total)) = totals.last_mut() {
+                if columns.last() == Some(column) && *total == ColumnTotal::Function("custom".into()) {
+                    *total = ColumnTotal::Formula(unescape(text));
+                }
+            }
+        }
         b"tableStyleInfo" => style = tag.attr("name").map(unescape),
         _ => {}
     });

@@ -3,10 +3,14 @@
 //! header and totals rows, column names and style, so a package written anew (after rows
 //! were inserted, or from a workbook a macro gave a new table) keeps them. The cells then
 //! written over the table keep their values and looks; a header cell is written as the
-//! text of its column's name, as Excel stores it.
+//! text of its column's name, as Excel stores it. A calculated column's formula and a custom
+//! total's (`calculatedColumnFormula`, `totalsRowFormula`) are written as Excel stores
+//! formulas; the cells rust_xlsxwriter fills from them are emptied first, so that each cell
+//! holds what the workbook's does (a calculated column may have exceptions).
 
-use rust_xlsxwriter::{Table, TableColumn, TableFunction, TableStyle, Worksheet, XlsxError};
+use rust_xlsxwriter::{Formula, Table, TableColumn, TableFunction, TableStyle, Worksheet, XlsxError};
 
+use super::syntax::{to_file, Storage};
 use crate::eval::Value;
 use crate::formula::address::Pos;
 use crate::formula::ast::SheetId;
@@ -15,7 +19,7 @@ use crate::workbook::{ColumnTotal, TableShape, Workbook};
 /// Adds the tables of `sheet` to `ws`.
 pub fn add_tables(ws: &mut Worksheet, wb: &Workbook, sheet: SheetId) -> Result<(), (String, XlsxError)> {
     for t in wb.table_list().iter().filter(|t| t.sheet == sheet) {
-        let columns: Vec<TableColumn> = t.columns.iter().map(|c| table_column(t, c)).collect();
+        let columns: Vec<TableColumn> = t.columns.iter().map(|c| table_column(wb, t, c)).collect();
         let mut table = Table::new()
             .set_name(&t.name)
             .set_header_row(t.header_rows > 0)
@@ -28,22 +32,59 @@ pub fn add_tables(ws: &mut Worksheet, wb: &Workbook, sheet: SheetId) -> Result<(
         let (first, last) = (t.rect.first, t.rect.last);
         ws.add_table(first.row, first.col as u16, last.row, last.col as u16, &table)
             .map_err(|e| (format!("table {}", t.name), e))?;
+        empty_filled_cells(ws, t);
     }
     Ok(())
 }
 
-/// Column `name` of table `t`, with its totals row's label or function (`totalsRowLabel`,
-/// `totalsRowFunction`) as the file read had it.
-fn table_column(t: &TableShape, name: &str) -> TableColumn {
-    let column = TableColumn::new().set_header(name);
+/// Empties the cells `add_table` wrote from the columns' formulas and totals (the data cells
+/// of a calculated column, the totals row), which the workbook's own cells then fill.
+fn empty_filled_cells(ws: &mut Worksheet, t: &TableShape) {
+    let data = (t.rect.first.row + t.header_rows)..=t.rect.last.row.saturating_sub(t.totals_rows);
+    for (index, name) in t.columns.iter().enumerate() {
+        let col = (t.rect.first.col + index as u32) as u16;
+        if t.calculated.iter().any(|(c, _)| c == name) {
+            for row in data.clone() {
+                ws.clear_cell(row, col);
+            }
+        }
+        if t.totals_rows > 0 {
+            ws.clear_cell(t.rect.last.row, col);
+        }
+    }
+}
+
+/// Column `name` of table `t`, with its calculated column's formula and its totals row's
+/// label, function or formula (`totalsRowLabel`, `totalsRowFunction`, `totalsRowFormula`).
+fn table_column(wb: &Workbook, t: &TableShape, name: &str) -> TableColumn {
+    let mut column = TableColumn::new().set_header(name);
+    let data_top = Pos::new(t.rect.first.row + t.header_rows, t.rect.first.col);
+    if let Some(formula) = t.calculated.iter().find(|(c, _)| c == name).and_then(|(_, f)| file_text(wb, t, f, data_top))
+    {
+        column = column.set_formula(Formula::new(formula));
+    }
     match t.totals.iter().find(|(c, _)| c == name).map(|(_, total)| total) {
         Some(ColumnTotal::Label(label)) => column.set_total_label(label),
         Some(ColumnTotal::Function(f)) => match total_function(f) {
             Some(f) => column.set_total_function(f),
             None => column,
         },
+        Some(ColumnTotal::Formula(f)) => {
+            let totals = Pos::new(t.rect.last.row, t.rect.first.col);
+            match file_text(wb, t, f, totals) {
+                Some(f) => column.set_total_function(TableFunction::Custom(Formula::new(f))),
+                None => column,
+            }
+        }
         None => column,
     }
+}
+
+/// Formula `text` of table `t` (read as at `pos`) as Excel stores it; `None` when it no
+/// longer parses (a column it named is gone), as Excel drops such a column formula.
+fn file_text(wb: &Workbook, t: &TableShape, text: &str, pos: Pos) -> Option<String> {
+    let tree = wb.parse_at(text, t.sheet, pos).ok()?;
+    Some(to_file(&tree, wb, pos, Storage::Legacy).text)
 }
 
 /// rust_xlsxwriter's function of a `totalsRowFunction` (ECMA-376 ST_TotalsRowFunction);
