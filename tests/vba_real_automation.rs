@@ -284,8 +284,9 @@ fn cut_copy_mode_tells_whether_a_copy_waits_for_its_paste() {
 }
 
 // "Range.Replace method": in the range's cells the text What becomes Replacement, matching
-// part of a cell (LookAt:=xlPart, the default) or the whole of it (xlWhole), case ignored unless
-// MatchCase:=True; it returns True. Formulas are searched as written ("Find and replace"
+// part of a cell (LookAt:=xlPart, the Find dialog's setting as a run starts) or the whole of it
+// (xlWhole), case ignored unless MatchCase:=True (saved: A7's Replace names it False again); it
+// returns True. Formulas are searched as written ("Find and replace"
 // searches formulas), and a changed cell is entered anew, so "1,5" made "1.5" is a number.
 // Excel's "Find or replace text and numbers on a worksheet": `?` any one character, `*` any
 // number of characters, `~` before `?`, `*` or `~` the character itself.
@@ -303,7 +304,7 @@ fn range_replace_changes_matching_cells_as_if_typed_anew() {
          \x20   Range(\"A2\").Replace What:=\"t*.\", Replacement:=\"\"\n\
          \x20   Range(\"A5\").Replace \"~*\", \"+\"\n\
          \x20   Range(\"A6\").Replace \"X\", \"y\", LookAt:=xlWhole, MatchCase:=True\n\
-         \x20   Range(\"A7:A8\").Replace \"done\", \"ok\", LookAt:=xlWhole\n\
+         \x20   Range(\"A7:A8\").Replace \"done\", \"ok\", LookAt:=xlWhole, MatchCase:=False\n\
          \x20   Debug.Print TypeName(Range(\"A1\").Value) & \" \" & Range(\"A4\").Formula",
     );
     assert_eq!(out, ["R=True", "Double =\"Q\"&\"Q\""]);
@@ -311,6 +312,49 @@ fn range_replace_changes_matching_cells_as_if_typed_anew() {
     let texts = ["Sum", "Qc", "QQ", "a+b", "x", "ok", "007"].map(Value::text);
     assert_eq!(cells[0], n(1.5));
     assert_eq!(cells[1..], texts);
+}
+
+// "Range.Replace method": "The settings for LookAt, SearchOrder, MatchCase, and MatchByte are
+// saved each time you use this method. If you don't specify values for these arguments the next
+// time you call the method, the saved values are used. Setting these arguments changes the
+// settings in the Find dialog box"; "Range.Find method" says the same of LookIn, LookAt,
+// SearchOrder and MatchByte, its MatchCase "The default value is False". So after a Replace
+// with LookAt:=xlWhole, MatchCase:=True, a Replace naming neither replaces only whole cells of
+// that case (A2 "AB", not A3 "abc" or A4 "xab") and a Find("ab") finds no whole "ab"; a Find
+// with LookAt:=xlPart makes the next Replace match parts again, still of that case (no "AB" in
+// A3:A4), until MatchCase:=False. Replace returns True, whether or not it replaced anything.
+#[test]
+fn range_replace_and_find_share_the_find_dialogs_saved_settings() {
+    let mut wb = Workbook::with_sheet();
+    for (cell, v) in [("A1", "ab"), ("A2", "AB"), ("A3", "abc"), ("A4", "xab")] {
+        set(&mut wb, 0, cell, v);
+    }
+    let out = run(
+        &mut wb,
+        "    Range(\"A1:A4\").Replace \"ab\", \"1\", LookAt:=xlWhole, MatchCase:=True\n\
+         \x20   Debug.Print Range(\"A1:A4\").Replace(\"AB\", \"2\")\n\
+         \x20   Debug.Print Range(\"A1:A4\").Find(\"ab\") Is Nothing; Range(\"A1:A4\").Find(\"XAB\", LookAt:=xlPart).Address\n\
+         \x20   Debug.Print Range(\"A3:A4\").Replace(\"AB\", \"-\"); Range(\"A3\").Value; Range(\"A4\").Value\n\
+         \x20   Range(\"A3:A4\").Replace \"AB\", \"-\", MatchCase:=False",
+    );
+    assert_eq!(out, ["True", "True$A$4", "Trueabcxab"]);
+    let cells = ["A1", "A2", "A3", "A4"].map(|c| get(&wb, 0, c));
+    assert_eq!(cells, [n(1.0), n(2.0), Value::text("-c"), Value::text("x-")]);
+}
+
+// "Range.Replace method": ReplaceFormat "The replace format for the method", the format set in
+// Application.ReplaceFormat, which ncsheet does not keep: refused by name, not ignored (the
+// cells would keep their old format silently); a LookAt that is neither constant is refused.
+#[test]
+fn range_replace_by_format_or_with_a_bad_look_at_is_refused_by_name() {
+    let mut wb = Workbook::with_sheet();
+    let why = common::vba::main_fails(&mut wb, "    Range(\"A1\").Replace \"a\", \"b\", ReplaceFormat:=True");
+    assert!(
+        why.contains("Range.Replace ReplaceFormat:=True: ncsheet does not search or replace by cell format"),
+        "{why}"
+    );
+    let why = common::vba::main_fails(&mut wb, "    Range(\"A1\").Replace \"a\", \"b\", LookAt:=xlValues");
+    assert!(why.contains("Range.Replace LookAt:= is xlWhole or xlPart"), "{why}");
 }
 
 // "Range.CurrentRegion property": "a range bounded by any combination of blank rows and blank

@@ -30,13 +30,22 @@ impl Interp<'_, '_> {
     /// as typed) holds `What`, the text is replaced and the cell typed again, so "1,5" made
     /// "1.5" is the number 1.5 and a changed formula computes anew. `What` takes Excel's
     /// wildcards (`*`, `?`, `~` before either for itself); case is ignored unless MatchCase is
-    /// True. Cells without a match are left as they are. The result is True.
+    /// True. Cells without a match are left as they are. The result is True. "The settings for
+    /// LookAt, SearchOrder, MatchCase, and MatchByte are saved each time you use this method. If
+    /// you don't specify values for these arguments the next time you call the method, the saved
+    /// values are used. Setting these arguments changes the settings in the Find dialog box"
+    /// (Range.Replace method): one saved set with Find's ([`FindSettings`]).
     pub(super) fn replace_in_range(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let needed = |what: &str| self.fault_at(link.span, format!("Range.Replace needs {what}:="));
         let what = self.text_argument(link, 0, "What")?.ok_or_else(|| needed("What"))?;
         let replacement = self.text_argument(link, 1, "Replacement")?.ok_or_else(|| needed("Replacement"))?;
-        let look_at = self.look_at(link)?;
-        let match_case = self.flag_argument(link, 4, "MatchCase")?.unwrap_or(false);
+        let saved = self.find_conditions.borrow().saved;
+        let settings = FindSettings {
+            whole: self.xl_choice(link, 2, "LookAt", ("xlWhole", "xlPart"), saved.whole)?,
+            by_columns: self.xl_choice(link, 3, "SearchOrder", ("xlByColumns", "xlByRows"), saved.by_columns)?,
+            match_case: self.flag_argument(link, 4, "MatchCase")?.unwrap_or(saved.match_case),
+            ..saved
+        };
         for (position, name) in [(6, "SearchFormat"), (7, "ReplaceFormat")] {
             if self.flag_argument(link, position, name)?.unwrap_or(false) {
                 let why = format!("Range.Replace {name}:=True: ncsheet does not search or replace by cell format");
@@ -46,7 +55,8 @@ impl Interp<'_, '_> {
         if what.is_empty() {
             return Err(self.fault_at(link.span, "Range.Replace: What:= is empty; name the text to replace"));
         }
-        let pattern = wildcard_pattern(&what, look_at == xl("xlwhole"), match_case);
+        self.find_conditions.borrow_mut().saved = settings;
+        let pattern = wildcard_pattern(&what, settings.whole, settings.match_case);
         let pattern =
             Regex::new(&pattern).map_err(|e| self.fault_at(link.span, format!("Range.Replace What:={what}: {e}")))?;
         let used = ctx.clip_to_used(sheet, rect);
@@ -74,20 +84,28 @@ impl Interp<'_, '_> {
     /// matches it; Nothing when no cell does. Empty cells never match. "The settings for
     /// LookIn, LookAt, SearchOrder, and MatchByte are saved each time you use this method. If
     /// you don't specify values for these arguments the next time you call the method, the
-    /// saved values are used" (Range.Find method): the run starts with the Find dialog's
-    /// xlFormulas, xlPart, xlByRows. What, MatchCase and those settings are the conditions
-    /// `FindNext` and `FindPrevious` go on with.
+    /// saved values are used" (Range.Find method), saved with Replace's ([`FindSettings`]):
+    /// the run starts with the Find dialog's xlFormulas, xlPart, xlByRows. MatchCase is not
+    /// among them ("The default value is False"). What, MatchCase and those settings are the
+    /// conditions `FindNext` and `FindPrevious` go on with.
     pub(super) fn find_in_range(&self, ctx: &mut Ctx, sheet: SheetId, rect: Rect, link: &Link) -> Run<Obj> {
         let what =
             self.text_argument(link, 0, "What")?.ok_or_else(|| self.fault_at(link.span, "Range.Find needs What:="))?;
         let after = self.after_argument(link, 1, rect)?;
-        let saved = self.find_conditions.borrow().clone();
-        let conditions = FindConditions {
-            what: Some(what),
+        let saved = self.find_conditions.borrow().saved;
+        let settings = FindSettings {
             by_values: self.find_setting(link, 2, "LookIn", "xlvalues", saved.by_values)?,
             whole: self.find_setting(link, 3, "LookAt", "xlwhole", saved.whole)?,
             by_columns: self.find_setting(link, 4, "SearchOrder", "xlbycolumns", saved.by_columns)?,
+            ..saved
+        };
+        let conditions = FindConditions {
+            what: Some(what),
+            by_values: settings.by_values,
+            whole: settings.whole,
+            by_columns: settings.by_columns,
             match_case: self.flag_argument(link, 6, "MatchCase")?.unwrap_or(false),
+            saved: settings,
         };
         let backward = self.find_setting(link, 5, "SearchDirection", "xlprevious", false)?;
         *self.find_conditions.borrow_mut() = conditions.clone();
@@ -202,12 +220,15 @@ impl Interp<'_, '_> {
         })
     }
 
-    /// LookAt:=xlPart (2, the default) or xlWhole (1).
-    fn look_at(&self, link: &Link) -> Run<f64> {
-        let Some(e) = argument(link, 2, "LookAt") else { return Ok(xl("xlpart")) };
-        match self.eval(e)? {
-            Value::Number(n) if n == xl("xlwhole") || n == xl("xlpart") => Ok(n),
-            _ => Err(self.fault_at(link.span, "Range.Replace LookAt:= is xlPart or xlWhole")),
+    /// One of Replace's two-way settings (LookAt:=xlWhole or xlPart, SearchOrder:=xlByColumns
+    /// or xlByRows, named as Excel spells them): whether it is the first of `(yes, no)`, the
+    /// saved choice when left out; any other value is refused naming the two.
+    fn xl_choice(&self, link: &Link, position: usize, name: &str, (yes, no): (&str, &str), saved: bool) -> Run<bool> {
+        let (yes_n, no_n) = (xl(&yes.to_ascii_lowercase()), xl(&no.to_ascii_lowercase()));
+        match argument(link, position, name).map(|e| self.eval(e)).transpose()? {
+            None => Ok(saved),
+            Some(Value::Number(n)) if n == yes_n || n == no_n => Ok(n == yes_n),
+            Some(_) => Err(self.fault_at(link.span, format!("Range.Replace {name}:= is {yes} or {no}"))),
         }
     }
 }
@@ -256,12 +277,24 @@ mod tests {
     }
 }
 
-/// What `Range.Find` was last asked for, which `FindNext` and `FindPrevious` continue; its
-/// LookIn, LookAt and SearchOrder are also the settings a later Find leaving them out uses.
-/// The run starts with Excel's Find dialog: xlFormulas, xlPart, xlByRows, no search made.
+/// What `Range.Find` was last asked for, which `FindNext` and `FindPrevious` continue, and the
+/// Find dialog's settings Find and Replace save. The run starts with Excel's Find dialog:
+/// xlFormulas, xlPart, xlByRows, Match case off, no search made.
 #[derive(Clone, Default)]
 pub(super) struct FindConditions {
     what: Option<String>,
+    by_values: bool,
+    whole: bool,
+    by_columns: bool,
+    match_case: bool,
+    saved: FindSettings,
+}
+
+/// The settings of Excel's Find dialog a Find or Replace leaving them out uses and naming
+/// them saves: LookIn (Find's only), LookAt, SearchOrder, and MatchCase (Replace's only),
+/// as the two methods' pages list them.
+#[derive(Clone, Copy, Default)]
+pub(super) struct FindSettings {
     by_values: bool,
     whole: bool,
     by_columns: bool,
