@@ -1470,7 +1470,7 @@ impl Interp<'_, '_> {
         let mut items_back = Vec::new();
         let mut lent = Vec::new();
         let (args, param_array) = super::param_array::split_args(p, args);
-        let mut long_longs = Vec::new();
+        let mut long_longs = super::longlong::ExactArgs::default();
         for (i, a) in args.iter().enumerate() {
             let index = match &a.name {
                 Some(n) => p.params.iter().position(|q| q.name.eq_ignore_ascii_case(n)).expect("checked by the parser"),

@@ -19,7 +19,7 @@ use crate::formula::ast::{BinOp, Expr, ExprKind, UnaryOp};
 
 use super::ast::LONG_LONG_END;
 use super::interp::{Fault, Interp};
-use super::typing::{binary_type, Declared, Typing};
+use super::typing::{binary_type, Dec, Declared, Typing};
 use super::value::Var;
 
 /// 2^53: every whole number of a smaller size is exact in a double, and none is kept.
@@ -40,8 +40,8 @@ pub(super) struct Exact {
     nodes: Vec<Option<i64>>,
     /// What the Function that returned last gave, until its node takes it.
     gave: Option<i64>,
-    /// The LongLongs the call being bound passes, by parameter position.
-    args: Vec<(usize, i64)>,
+    /// The exact values the call being bound passes, by parameter position.
+    args: ExactArgs,
     /// The branch each IIf call chose, by the address of its condition, with the double it
     /// gave: noted only past 2^53 ([`Interp::note_iif_branch`]).
     iif: HashMap<usize, (usize, f64)>,
@@ -63,16 +63,30 @@ fn whole(n: f64) -> Option<i64> {
     (n.fract() == 0.0 && (-LONG_LONG_END..LONG_LONG_END).contains(&n)).then_some(n as i64)
 }
 
+/// What a call's arguments hold beyond their doubles, by parameter position: a LongLong
+/// past 2^53, a Decimal whose digits no double gives back (`typing/decimal.rs`).
+#[derive(Debug, Default)]
+pub(super) struct ExactArgs {
+    long_longs: Vec<(usize, i64)>,
+    decimals: Vec<(usize, Dec)>,
+}
+
+impl ExactArgs {
+    fn is_empty(&self) -> bool {
+        self.long_longs.is_empty() && self.decimals.is_empty()
+    }
+}
+
 /// The LongLong noted for the argument at parameter position `index`.
-fn noted_for(noted: &[(usize, i64)], index: usize) -> Option<i64> {
-    noted.iter().find(|(i, _)| *i == index).map(|&(_, k)| k)
+fn noted_for(noted: &ExactArgs, index: usize) -> Option<i64> {
+    noted.long_longs.iter().find(|(i, _)| *i == index).map(|&(_, k)| k)
 }
 
 /// The argument at parameter position `index` as a LongLong parameter of type `ty` takes
 /// it, where a LongLong was noted for it: already of the type and in its range, though its
 /// nearest double may not be (2^63 - 512 and up round to 2^63, one past the top). `None` for
 /// any other parameter or argument, which converts as usual.
-pub(super) fn long_long_param(noted: &[(usize, i64)], index: usize, ty: Option<&super::ast::Ty>) -> Option<Var> {
+pub(super) fn long_long_param(noted: &ExactArgs, index: usize, ty: Option<&super::ast::Ty>) -> Option<Var> {
     if Declared::of_ty(ty) != Declared::LongLong {
         return None;
     }
@@ -475,35 +489,39 @@ impl Interp<'_, '_> {
     }
 
     /// Notes in `noted` that the argument at parameter position `index`, the expression `e`,
-    /// gave the LongLong `v` past what its double holds, for the parameter it is bound to.
-    /// The call keeps its own list until it is bound: an argument that calls a Function
-    /// (`F(G(x), y)`) binds G's in between.
-    pub(super) fn note_long_long_arg(&self, noted: &mut Vec<(usize, i64)>, index: usize, e: &Expr, v: &Value) {
-        // A Decimal whose digits no double gives back is not passed as its nearest double.
-        self.park_kept_decimal_argument(e, v);
+    /// gave the LongLong `v` past what its double holds, or a Decimal whose digits its double
+    /// does not give back, for the parameter it is bound to. The call keeps its own list
+    /// until it is bound: an argument that calls a Function (`F(G(x), y)`) binds G's in between.
+    pub(super) fn note_long_long_arg(&self, noted: &mut ExactArgs, index: usize, e: &Expr, v: &Value) {
+        if let Some(d) = self.kept_decimal_of(e, v) {
+            noted.decimals.push((index, d));
+        }
         if let Some(k) = self.kept_long_long(e, v) {
-            noted.push((index, k));
+            noted.long_longs.push((index, k));
         }
     }
 
     /// Hands the LongLongs a call's arguments gave to the binding of its parameters.
-    pub(super) fn pass_long_long_args(&self, noted: Vec<(usize, i64)>) {
+    pub(super) fn pass_long_long_args(&self, noted: ExactArgs) {
         if !noted.is_empty() || !self.exact.borrow().args.is_empty() {
             self.exact.borrow_mut().args = noted;
         }
     }
 
     /// The LongLongs handed to the parameters being bound, taken: no later call reads them.
-    pub(super) fn take_long_long_args(&self) -> Vec<(usize, i64)> {
+    pub(super) fn take_long_long_args(&self) -> ExactArgs {
         if self.exact.borrow().args.is_empty() {
-            return Vec::new();
+            return ExactArgs::default();
         }
         std::mem::take(&mut self.exact.borrow_mut().args)
     }
 
     /// The LongLong noted for the parameter at `index`, for its variable holding `var`
-    /// (a LongLong or a Variant parameter: any other converted it).
-    pub(super) fn long_long_arg(&self, noted: &[(usize, i64)], index: usize, slot: &mut super::value::Slot) {
+    /// (a LongLong or a Variant parameter: any other converted it); a Decimal for a Variant.
+    pub(super) fn long_long_arg(&self, noted: &ExactArgs, index: usize, slot: &mut super::value::Slot) {
+        if let Some(&(_, d)) = noted.decimals.iter().find(|(i, _)| *i == index) {
+            self.bind_decimal(d, slot);
+        }
         let Some(k) = noted_for(noted, index) else { return };
         let typed = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::LongLong | Declared::Variant);
         if typed && matches!(slot.var(), Var::Value(Value::Number(n)) if *n == k as f64) {

@@ -10,8 +10,9 @@
 //! doubles give 3267.4999999999995). The kept digits go on through a Variant variable, a
 //! Function's result, CDec, CVar, Int, Fix, Abs, Round, the comparisons and every text (CStr,
 //! Str, Print, `&`); anything reading a Double (Sqr, a cell, a Double variable) takes the
-//! nearest double, as VBA converts. A place that keeps a double alone (an argument, an array
-//! item, a Type's field) refuses such a Decimal by name.
+//! nearest double, as VBA converts; a Variant parameter takes the digits with the value. A
+//! place that keeps a double alone (an array item, a Type's field) refuses such a Decimal by
+//! name.
 
 use std::cmp::Ordering;
 use std::collections::HashMap;
@@ -577,13 +578,24 @@ impl Interp<'_, '_> {
         ))
     }
 
-    /// Parks the refusal of a Decimal argument `v`, the value of `e`, whose digits are kept
-    /// beside its double ([`Interp::refuse_kept_decimal`]): the call taking it stops. Its own
-    /// frame, out of the call's argument loop.
+    /// The Decimal `v`, the value of `e`, stands for where its digits are kept beside its
+    /// double; `None` for any other value.
     #[inline(never)]
-    pub(in crate::vba) fn park_kept_decimal_argument(&self, e: &Expr, v: &Value) {
-        if let Err(refused) = self.refuse_kept_decimal(e, v, "an argument") {
-            self.park(refused);
+    pub(in crate::vba) fn kept_decimal_of(&self, e: &Expr, v: &Value) -> Option<Dec> {
+        let Value::Number(n) = v else { return None };
+        self.kept_decimal(e, *n)
+    }
+
+    /// A parameter bound to an argument that gave the Decimal `d`: a Variant holds it, its
+    /// digits kept ([MS-VBAL] 5.3.1.11: the argument's value is bound with its value type);
+    /// a parameter of another type converted it already.
+    #[inline(never)]
+    pub(in crate::vba) fn bind_decimal(&self, d: Dec, slot: &mut super::super::value::Slot) {
+        let variant = matches!(Declared::of_ty(slot.ty.as_ref()), Declared::Variant);
+        let nearest = matches!(slot.var(), super::super::value::Var::Value(Value::Number(n)) if n.to_bits() == d.nearest().to_bits());
+        if variant && nearest {
+            slot.set_holds(Declared::Decimal);
+            slot.set_decimal(d);
         }
     }
 
