@@ -248,6 +248,33 @@ fn redim_preserve_copies_count_against_the_statement_limit() {
     assert_eq!(out.printed, [" 7  100 "]);
 }
 
+// Issue 30: a write into an item of an array of a Type whose records another variable shares
+// (`b = a`) copies every record first, as a write into an array of values does (counted since
+// e044cea), and was counted as one statement: `b = a: b(1).x = i` over 2,000 records of two
+// fields copies 2,000 · (1 + 2) = 6,000 items a turn, 375 statements' worth at 16 items a
+// statement, so 100 turns are 37,500, past a limit of 20,000 that the loop's 300 statements
+// stay far below; `b(2) = q` (the whole record) copies as much. Over 20 records (60 items, 3
+// statements a turn) the same loops end normally, b(1).x the last turn's i.
+#[test]
+fn a_write_into_shared_records_counts_their_copy() {
+    let program = |records: u32, write: &str| {
+        format!(
+            "Type P\n    x As Double\n    y As Double\nEnd Type\n\
+             Sub Main()\n    Dim a(1 To {records}) As P, b() As P, q As P, i As Long\n\
+             \x20   For i = 1 To 100\n        b = a\n        q.x = i\n        {write}\n    Next i\n\
+             \x20   Debug.Print b(1).x + b(2).x\nEnd Sub\n"
+        )
+    };
+    let options = RunOptions { max_statements: 20_000, ..RunOptions::default() };
+    for write in ["b(1).x = i", "b(2) = q"] {
+        let e = run_with(&program(2000, write), &options).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Limit, "{write}: {e}");
+        assert!(e.to_string().contains("each 16 items copied count as a statement"), "{write}: {e}");
+        let out = run_with(&program(20, write), &options).unwrap_or_else(|e| panic!("{write}: {e}"));
+        assert_eq!(out.printed, [" 100 "], "{write}");
+    }
+}
+
 #[test]
 fn fifty_thousand_dims_in_one_sub_run_fast() {
     let mut src = String::from("Sub Main()\n");

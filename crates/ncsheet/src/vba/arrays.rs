@@ -381,6 +381,8 @@ impl Interp<'_, '_> {
     pub(super) fn set_record_item(&self, name: &Rc<str>, index: &[Expr], record: Var, span: Span) -> Run<()> {
         let at = index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?;
         self.charge(super::budget::brought(&record), span)?;
+        // Any item: the write steps into the array itself only.
+        self.copy_records_if_shared(name, &[0], span)?;
         let result = self.with_slot(name, |slot| {
             let (ty, own) = (slot.ty.clone(), slot.name.clone());
             let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
@@ -431,6 +433,23 @@ impl Interp<'_, '_> {
             self.count_copy(items, span)?;
         }
         Ok(bytes)
+    }
+
+    /// What a write at `path` into `name` (an array of a Type, or a Type holding one, `pts(3).x
+    /// = 1`, `b(1) = q`) copies first because the records it steps into are shared with another
+    /// variable (`b = a`) or with the module's array as a call from a cell found it: counted
+    /// against the statement limit and charged to the memory budget, as [`Interp::copy_if_shared`]
+    /// does for an array of values (2,000 cells whose Function wrote `big(1).x = v` into a
+    /// module-level array of a million records copied 2 billion records uncounted).
+    #[inline(never)]
+    pub(super) fn copy_records_if_shared(&self, name: &str, path: &[usize], span: Span) -> Run<()> {
+        self.note_item_write(name);
+        let items = self.peek(name, |held| records_copied(held, path)).unwrap_or(0);
+        if items == 0 {
+            return Ok(());
+        }
+        self.count_copy(items, span)?;
+        self.charge((items * std::mem::size_of::<Var>()) as u64, span)
     }
 
     /// VBA's "Subscript out of range (Error 9)".
@@ -848,6 +867,37 @@ fn element_type(declared: Option<Ty>, a: &VArray) -> Option<Ty> {
         Declared::Variant => a.item_type.ty().or(declared),
         _ => declared,
     }
+}
+
+/// The records and their fields a write at `path` into `held` copies: every array of a Type
+/// it steps into from the first shared one on (a copy of records shares the arrays their
+/// fields hold, so those are copied in turn), each record counting its fields.
+fn records_copied(held: &Var, path: &[usize]) -> usize {
+    let (mut items, mut shared, mut at) = (0usize, false, held);
+    for &i in path {
+        at = match at {
+            Var::Record(_, fields) => match fields.get(i) {
+                Some(field) => field,
+                None => break,
+            },
+            Var::Array(VArray { records: Some(records), .. }) => {
+                shared |= Rc::strong_count(records) > 1;
+                if shared {
+                    let fields = match records.first() {
+                        Some(Var::Record(_, fields)) => fields.len(),
+                        _ => 0,
+                    };
+                    items = items.saturating_add(records.len().saturating_mul(1 + fields));
+                }
+                match records.get(i) {
+                    Some(record) => record,
+                    None => break,
+                }
+            }
+            _ => break,
+        };
+    }
+    items
 }
 
 /// A link's arguments as the index expressions of `c(i)`.
@@ -1353,6 +1403,7 @@ impl Interp<'_, '_> {
             lists.push(index.iter().map(|e| self.index(e, "the index")).collect::<Run<Vec<i64>>>()?);
         }
         self.charge_nested_item(&item, span)?;
+        self.copy_records_if_shared(&var, &at, span)?;
         let result = self.with_slot(&var, |slot| {
             let own: Rc<str> = format!("{}.{}", slot.name, field.name).into();
             let mut target = slot.var_mut();

@@ -2189,6 +2189,7 @@ impl Interp<'_, '_> {
     /// Writes a field of a Type variable, converted to the field's type.
     pub fn set_record_field(&self, name: &str, path: &[usize], value: Var, span: Span) -> Run<()> {
         let module = self.module;
+        self.copy_records_if_shared(name, path, span)?;
         // The items of a field's array copied because the array was shared (each record of
         // `Dim t(1 To n) As T` starts with the one default array): charged to the memory
         // budget, which a loop writing into each record's array passed unseen until it aborted.
@@ -2536,6 +2537,7 @@ impl Interp<'_, '_> {
         }
         let array = Var::Array(array);
         self.charge(super::budget::brought(&array), d.span)?;
+        self.copy_records_if_shared(&d.name, &path, d.span)?;
         self.with_slot(&d.name, |slot| {
             let mut var = slot.var_mut();
             for &i in &path {
