@@ -403,6 +403,37 @@ fn fanuc_blocks_joined_by_eob_on_one_line_read_as_the_flat_program() {
     assert!(e.message.contains("alarm 078"), "{e}");
 }
 
+/// The tape marks and the program number as a Fanuc control reads them: the first `%` line is
+/// the leader, skipped to the end of its line, the next `%` ends the program (FANUC 16i
+/// operator's manual B-63524EN/01 §8: "data between the first % and the next LF is skipped",
+/// "A file always ends with %"); `:1234` is the program number in ISO code, the colon standing
+/// for the address O ("the capital letter O for EIA format, and the older colon [ : ] for ASCII
+/// (ISO) format", en.cncforum.net, "CNC Program Name and Number Identification"). The same
+/// program written with `O1234` and no marks is the oracle.
+#[test]
+fn fanuc_tape_marks_and_a_colon_program_number_read_as_the_plain_program() {
+    let body = "G21 G17 G90 G94\nG0 X0 Y0 Z5\nG1 X10 F100 ;G1 Y10 ;\nM30 ;\n";
+    let marked = read::read(&format!("% PART-1234 REV.B\n:1234 (PART A)\n{body}%\n"), Family::Fanuc, None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let plain = read::read(&format!("O1234 (PART A)\n{body}"), Family::Fanuc, None).unwrap();
+    assert_eq!((marked.number, marked.name.as_str()), (Some(1234), "PART A"));
+    assert_eq!(marked.blocks, plain.blocks);
+    // A program that no call runs, or a second main program, is never run by this one: a control
+    // runs it only when an operator selects it, so it is refused at its O line, not left out
+    // without a word; so is text after the tape's end.
+    let cases = [
+        (format!("%\nO1234\n{body}%\nO2000\nG1 X1\nM30\n%\n"), 8, 1, "ends the program at line 7"),
+        (format!("O1234\n{body}O2000 (SECOND PART)\nG1 X1\nM30\n"), 6, 1, "O2000 ends with M30, not M99"),
+        (format!("O1234\n{body}O2000\nG1 X1\nM99\n"), 6, 1, "O2000 is called by no M98"),
+        (format!("{body}:2000\nM98 P3000\nM99\nO3000\nM99\n"), 5, 1, "O2000 is called by no M98"),
+    ];
+    for (text, line, column, says) in cases {
+        let e = read::read(&text, Family::Fanuc, None).unwrap_err();
+        assert_eq!((e.line, e.column), (line, column), "{text}\n{e}");
+        assert!(e.message.contains(says) && e.message.contains("file of its own"), "{text}\n{e}");
+    }
+}
+
 /// What the manual bounds (a count of 1–999, four levels of nesting) and what the file does
 /// not hold (alarm 078) are refused at their line and column; so is what the manual leaves to
 /// a control's set-up (M99 in the main program restarts it; `M99 P` out of a repeated call).

@@ -113,6 +113,8 @@ struct Program {
     line: usize,
     blocks: Vec<Block>,
     labels: HashMap<u32, usize>,
+    /// The program end (M2 or M30) it holds, if any: a main program of its own.
+    ends: Option<u32>,
 }
 
 /// The file's programs, and which of them each number names.
@@ -136,10 +138,15 @@ pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
         programs: &programs,
         texts: &texts,
         order: Vec::new(),
+        called: vec![false; programs.all.len()],
         steps_left: written_blocks.saturating_add(MAX_BLOCKS_RUN),
         bytes_left: written_bytes.saturating_add(MAX_TEXT_RUN),
     };
     run.main()?;
+    if let Some(p) = programs.all.iter().zip(&run.called).skip(1).find(|(_, &called)| !called).map(|(p, _)| p) {
+        let number = p.number.unwrap_or(0);
+        return Err(error(p.line, 1, second_main(number, "is called by no M98 of the main program")));
+    }
     let order = run.order;
     Ok(Unrolled { blocks: texts, order })
 }
@@ -148,23 +155,91 @@ pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
 /// line, if any, kept as a block the reader reads); every later `O` line starts a subprogram.
 /// Each line is split into its blocks once, here; the reader reads the blocks this keeps.
 fn split(text: &str, texts: &mut Vec<Text>) -> Result<Programs, ReadError> {
-    let main = Program { number: None, line: 1, blocks: Vec::new(), labels: HashMap::new() };
+    let main = Program { number: None, line: 1, blocks: Vec::new(), labels: HashMap::new(), ends: None };
     let mut programs = Programs { all: vec![main], numbered: HashMap::new() };
+    let mut tape = Tape::Unopened;
     for (i, line_text) in text.lines().enumerate() {
         let line = i + 1;
+        if line_text.trim_start().starts_with('%') {
+            tape = tape.mark(line);
+            continue;
+        }
         for (offset, raw) in super::fanuc_blocks(line_text) {
-            if matches!(raw.trim(), "" | "%") {
+            if raw.trim().is_empty() {
                 continue;
             }
-            split_block(raw, Place { line, offset }, &mut programs, texts).map_err(|e| shifted(e, offset))?;
+            if let Tape::Ended(end) = tape {
+                return Err(error(
+                    line,
+                    offset + 1,
+                    format!(
+                        "text after the `%` that ends the program at line {end} (the end of tape: a control stops \
+                         reading there); a program after it needs a file of its own"
+                    ),
+                ));
+            }
+            tape = Tape::Open;
+            let raw = program_number_colon(raw);
+            split_block(&raw, Place { line, offset }, &mut programs, texts).map_err(|e| shifted(e, offset))?;
         }
     }
     for p in &programs.all[1..] {
         if !p.blocks.iter().any(|b| matches!(b.flow, Flow::Return { .. })) {
-            return Err(error(p.line, 1, format!("subprogram O{:04} has no M99 to return", p.number.unwrap_or(0))));
+            let number = p.number.unwrap_or(0);
+            return Err(error(
+                p.line,
+                1,
+                match p.ends {
+                    Some(m) => second_main(number, &format!("ends with M{m:02}, not M99")),
+                    None => format!("subprogram O{number:04} has no M99 to return"),
+                },
+            ));
         }
     }
     Ok(programs)
+}
+
+/// Where the file stands between the tape marks `%`: the first `%` line is the leader, skipped
+/// to the end of its line (a title may follow it, `% TITLE`); the next ends the program (the
+/// FANUC 16i operator's manual, B-63524EN/01 §8, memory card files: "A file starts with % or
+/// LF … A file always ends with %. In a read operation, data between the first % and the next
+/// LF is skipped"; the Data Server's format, B-64014EN/03 §2.5: `% TITLE ;` `O0001(COMMENT) ;`
+/// … `M30 ;` `%`).
+#[derive(Clone, Copy)]
+enum Tape {
+    Unopened,
+    Open,
+    Ended(usize),
+}
+
+impl Tape {
+    /// After a `%` line at `line`.
+    fn mark(self, line: usize) -> Tape {
+        match self {
+            Tape::Unopened => Tape::Open,
+            Tape::Open => Tape::Ended(line),
+            ended => ended,
+        }
+    }
+}
+
+/// A block that starts with `:1234`, the program number as ISO code writes it (`:` for the
+/// address O: on the older Fanuc controls the colon is the program number's address in ISO
+/// code, `O` in EIA; every Fanuc control reads both), read as `O1234` in the same column.
+fn program_number_colon(raw: &str) -> Cow<'_, str> {
+    let start = raw.len() - raw.trim_start().len();
+    match raw[start..].strip_prefix(':') {
+        Some(rest) => Cow::Owned(format!("{}O{rest}", &raw[..start])),
+        None => Cow::Borrowed(raw),
+    }
+}
+
+/// Why the `O` program `number` is not read: `what` it is, then what a control does with it.
+fn second_main(number: u32, what: &str) -> String {
+    format!(
+        "O{number:04} {what}: a program of its own, which a control runs only when it is selected; ncsheet reads \
+         the file's first program and the subprograms it calls, so O{number:04} needs a file of its own"
+    )
 }
 
 /// Where a block stands: its 1-based line and the characters before it on that line.
@@ -208,6 +283,9 @@ fn split_block(raw: &str, at: Place, programs: &mut Programs, texts: &mut Vec<Te
     });
     let label = words.first().filter(|w| w.letter == 'N').and_then(|w| w.number.parse().ok());
     let program = programs.all.last_mut().expect("the main program");
+    if let Some(m) = words.iter().find(|w| w.is('M', 2) || w.is('M', 30)) {
+        program.ends = program.ends.or(m.value().map(|v| v as u32));
+    }
     if let Some(n) = label {
         program.labels.entry(n).or_insert(program.blocks.len());
     }
@@ -236,7 +314,7 @@ fn header(o: &Word, words: &[Word], line: usize, numbered: &HashMap<u32, usize>)
     if numbered.contains_key(&number) {
         return Err(error(line, o.start + 1, format!("program O{number:04} is written twice in this file")));
     }
-    Ok(Program { number: Some(number), line, blocks: Vec::new(), labels: HashMap::new() })
+    Ok(Program { number: Some(number), line, blocks: Vec::new(), labels: HashMap::new(), ends: None })
 }
 
 /// What a block's M98 or M99 asks, with its words checked.
@@ -340,6 +418,8 @@ struct Run<'a> {
     programs: &'a Programs,
     texts: &'a [Text],
     order: Vec<usize>,
+    /// Which programs a call has run.
+    called: Vec<bool>,
     steps_left: usize,
     bytes_left: usize,
 }
@@ -352,6 +432,7 @@ impl Run<'_> {
     /// Runs program `index` at nesting `depth` (0 the main program) from its first block;
     /// returns the sequence number an `M99 P` names, if any.
     fn program(&mut self, index: usize, depth: usize) -> Result<Option<u32>, ReadError> {
+        self.called[index] = true;
         let this = &self.programs.all[index];
         let blocks = &this.blocks;
         let mut at = 0;
