@@ -46,7 +46,11 @@ pub fn parse_table_ref(table: Option<&str>, brackets: &str) -> Option<TableRef> 
         return Some(TableRef { table, rows, columns });
     }
     if !inner.starts_with('[') {
-        let columns = if inner.is_empty() || special(inner, &mut rows)? {
+        // `Parts[]` is the data rows, as the table's name alone is.
+        let columns = if inner.is_empty() {
+            rows.data = true;
+            None
+        } else if special(inner, &mut rows)? {
             None
         } else {
             rows.data = true;
@@ -197,35 +201,38 @@ fn escape(name: &str) -> String {
 
 /// Whether a column's name must stand in its own brackets (`Parts[[Total $]]`): it holds one
 /// of the characters Excel lists (a space, a sign, a bracket …). A space alone needs none in
-/// a plain column (`Parts[Unit Price]`), but does after `@` (`[@[Unit Price]]`).
+/// a plain column (`Parts[Unit Price]`), but does after `@` (`[@[Unit Price]]`), and at a
+/// name's ends (`Table3[[the two ]]`, as Excel writes it), where a plain reference's are trimmed.
 fn needs_brackets(name: &str, after_at: bool) -> bool {
-    name.chars().any(|c| {
-        (c == ' ' && after_at)
-            || (c != ' ' && c.is_whitespace())
-            || matches!(
-                c,
-                ',' | ':'
-                    | '.'
-                    | '['
-                    | ']'
-                    | '#'
-                    | '\''
-                    | '"'
-                    | '{'
-                    | '}'
-                    | '$'
-                    | '^'
-                    | '&'
-                    | '*'
-                    | '+'
-                    | '='
-                    | '-'
-                    | '>'
-                    | '<'
-                    | '/'
-                    | '@'
-            )
-    })
+    name.starts_with(char::is_whitespace)
+        || name.ends_with(char::is_whitespace)
+        || name.chars().any(|c| {
+            (c == ' ' && after_at)
+                || (c != ' ' && c.is_whitespace())
+                || matches!(
+                    c,
+                    ',' | ':'
+                        | '.'
+                        | '['
+                        | ']'
+                        | '#'
+                        | '\''
+                        | '"'
+                        | '{'
+                        | '}'
+                        | '$'
+                        | '^'
+                        | '&'
+                        | '*'
+                        | '+'
+                        | '='
+                        | '-'
+                        | '>'
+                        | '<'
+                        | '/'
+                        | '@'
+                )
+        })
 }
 
 impl TableRef {
@@ -316,6 +323,10 @@ mod tests {
         assert_eq!(round_trip(Some("T"), "[[Total $]]", true), "T[[Total $]]");
         assert_eq!(round_trip(Some("T"), "[[#Headers],[#Data],[A]:[B]]", true), "T[[#Headers],[#Data],[A]:[B]]");
         assert_eq!(round_trip(Some("T"), "[[A]:[B]]", true), "T[[A]:[B]]");
+        // A name with a space at an end keeps its own brackets, as IronCalc's tables.xlsx holds
+        // `Table3[[the two ]]`; `Table1[]` is the data rows (Excel's SUM(Table1[]) there: 274).
+        assert_eq!(round_trip(Some("T"), "[[the two ]]", true), "T[[the two ]]");
+        assert!(parse_table_ref(Some("T"), "[]").is_some_and(|r| r.rows.data && r.columns.is_none()));
         // Excel's escapes: `'` before `'` and `#`; a name with a sign in its own brackets.
         assert_eq!(round_trip(Some("T"), "[[Col'''#]]", true), "T[[Col'''#]]");
         let r = parse_table_ref(Some("T"), "[[Col'''#]]").expect("reference");
