@@ -117,3 +117,22 @@ fn what_excel_refuses_on_several_areas_is_refused() {
     let message = main_fails(&mut wb, "Range(\"A1,C3\").Resize(2, 2).Value = 1");
     assert!(message.contains("Resize") && message.contains("several areas"), "{message}");
 }
+
+// "Range.Select method" of a Range of several areas makes "a multiple-area selection"
+// ("Range.Areas property"): Selection is every area (its Address lists them, Areas.Count 2),
+// the active cell the first area's first cell, and `Selection.Value = 9` fills every area as a
+// multiple selection's value does. `Union(...).Select` the same.
+#[test]
+fn a_range_of_several_areas_is_selected_whole() {
+    let mut wb = Workbook::with_sheet();
+    let printed = run_main(
+        &mut wb,
+        "Range(\"A1:B2,D4:E5\").Select\n\
+         Debug.Print Selection.Address & \" \" & Selection.Areas.Count & \" \" & ActiveCell.Address\n\
+         Union(Range(\"C1\"), Range(\"C3\")).Select\n\
+         Selection.Value = 9\n\
+         Debug.Print Selection.Address & \" \" & Selection.Count & \" \" & ActiveCell.Address",
+    );
+    assert_eq!(printed, ["$A$1:$B$2,$D$4:$E$5 2 $A$1", "$C$1,$C$3 2 $C$1"]);
+    assert_eq!((get(&wb, "C1"), get(&wb, "C2"), get(&wb, "C3")), (n(9.0), Value::Blank, n(9.0)));
+}

@@ -155,14 +155,21 @@ impl Interp<'_, '_> {
                 self.copy_areas(ctx, sheet, areas, link)?;
                 Ok(Obj::Value(Value::Blank))
             }
-            // Select works only on the active sheet, of one area or several.
+            // Select works only on the active sheet, of one area or several: the selection is
+            // then every area, the active cell the first area's first cell, as a selection
+            // made with Ctrl is ("Range.Areas property": "a multiple-area selection").
             "select" | "activate" => {
                 let method = if name == "select" { "Select" } else { "Activate" };
                 self.refuse_hidden(sheet, method, "Range", link.span)?;
                 self.refuse_inactive(sheet, method, link.span)?;
+                if name == "select" {
+                    self.select_areas(sheet, areas);
+                    return Ok(Obj::Value(Value::Blank));
+                }
                 Err(self.unsupported(
                     link.span,
-                    format!("{method} of a Range of several areas: ncsheet's selection is one range; work on each area (For Each a In r.Areas)"),
+                    "Activate of a Range of several areas: ncsheet activates one range; select the areas (r.Select) or activate one cell"
+                        .to_string(),
                 ))
             }
             // "Range.Cut method" on several areas: Excel's "This action won't work on multiple
@@ -186,6 +193,14 @@ impl Interp<'_, '_> {
                 ),
             )),
         }
+    }
+
+    /// `Range("A1:B2,D4:E5").Select`, `Union(a, b).Select`: `Selection` is then all the areas
+    /// and `ActiveCell` the first area's first cell.
+    fn select_areas(&self, sheet: SheetId, areas: &Rc<[Rect]>) {
+        self.active.set(sheet);
+        self.cursors.borrow_mut().insert(sheet, (areas[0], areas[0].first));
+        self.selected_areas.borrow_mut().insert(sheet, areas.clone());
     }
 
     /// `r.Areas` (the collection) and `r.Areas(i)` (its i-th area, from 1).
