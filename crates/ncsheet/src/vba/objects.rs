@@ -748,6 +748,7 @@ impl Interp<'_, '_> {
                 value(v)
             }
             "formula" => value(self.formulas(sheet, rect, false)),
+            "formulaarray" => value(self.formula_array(sheet, rect)),
             "hasformula" => value(self.has_formula(sheet, rect)),
             "formulalocal" => value(self.formulas_local(sheet, rect)),
             "formular1c1" | "formular1c1local" => value(self.formulas(sheet, rect, true)),
@@ -1076,6 +1077,12 @@ impl Interp<'_, '_> {
             (Obj::Areas(sheet, areas), "formula" | "formular1c1") => {
                 self.write_formula_areas(*sheet, areas, value, link)
             }
+            (Obj::Range(sheet, rect), "formulaarray") => {
+                let v = self.eval(value)?;
+                let text =
+                    vba_text(&v).map_err(|e| self.fault_at(self.expr_span(value), format!("the formula is {e}")))?;
+                self.write_formula_array(*sheet, *rect, &text, link.span)
+            }
             (Obj::Range(sheet, rect), "formula" | "formulalocal" | "formular1c1" | "formular1c1local") => {
                 let v = self.eval(value)?;
                 let text =
@@ -1185,6 +1192,87 @@ impl Interp<'_, '_> {
 
 /// The most cells one `.Formula =` fills.
 const MAX_FORMULA_WRITE: u64 = 10_000_000;
+
+/// Whether an A1-style reading of a formula took an R1C1 reference for a name (`R1C1`, `R2C3`,
+/// `RC`, `R`, `C`): no defined name may be spelled so ("Names in formulas": a name cannot be
+/// the same as a cell reference, such as Z$100 or R1C1; R and C are reserved), so the text
+/// was written in R1C1 style.
+fn names_an_r1c1_cell(tree: &Expr) -> bool {
+    let r1c1 = |name: &str| {
+        let upper = name.to_ascii_uppercase();
+        let Some(rest) = upper.strip_prefix('R') else { return upper == "C" };
+        let rest = rest.trim_start_matches(|c: char| c.is_ascii_digit());
+        rest.is_empty() && upper == "R" || rest.strip_prefix('C').is_some_and(|c| c.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let mut found = false;
+    tree.visit(&mut |e| {
+        if let ExprKind::Name(n) | ExprKind::SheetName(_, n) = &e.kind {
+            found |= r1c1(n);
+        }
+    });
+    found
+}
+
+impl Interp<'_, '_> {
+    /// `.FormulaArray = "=MINVERSE(A1:C3)"` ("Range.FormulaArray property"): one legacy
+    /// (Ctrl+Shift+Enter) array formula over the whole range, anchored at its top-left cell,
+    /// its result filling exactly the range as Excel fits it (a scalar repeated, `=3` over
+    /// A1:C5; missing items #N/A). The text is read in A1 style, as the current page's
+    /// example `=Sum(A1:C3)` is, and else in R1C1 style, as the older pages' `=Sum(R1C1:R3C3)`
+    /// ("the formula must use the R1C1 reference style"). Text not starting with `=` is a
+    /// constant in every cell, as `.Formula` types it.
+    pub(super) fn write_formula_array(&self, sheet: SheetId, rect: Rect, text: &str, span: Span) -> Run<()> {
+        if !text.starts_with('=') {
+            return self.write_range(sheet, rect, &Value::text(text));
+        }
+        let cells = rect.rows() as u64 * rect.cols() as u64;
+        if cells > MAX_FORMULA_WRITE {
+            return Err(
+                self.beyond_limit(Some(span), format!("an array formula over {cells} cells is more than a macro may"))
+            );
+        }
+        self.refuse_protected(sheet)?;
+        let mut wb = self.book_mut()?;
+        wb.room_for_rect(sheet, rect).map_err(|e| self.workbook_fault(Some(span), &e))?;
+        let parsed = {
+            let sheets = |name: &str| wb.sheet_id(name);
+            let ctx = ParseContext { at: rect.first, functions: &Registry, sheet: &sheets };
+            match parse_formula(text, &ctx) {
+                Ok(tree) if !names_an_r1c1_cell(&tree) => Ok(tree),
+                Ok(_) => parse_formula_r1c1(text, &ctx),
+                Err(a1) => parse_formula_r1c1(text, &ctx).map_err(|_| a1),
+            }
+        };
+        let tree =
+            parsed.map_err(|e| self.fault_at(span, format!("{text}: column {}: {}", e.column(text), e.message)))?;
+        // The area's other cells hold nothing of their own: the array's items fill them.
+        for row in rect.first.row..=rect.last.row {
+            for col in rect.first.col..=rect.last.col {
+                let pos = Pos::new(row, col);
+                if pos != rect.first {
+                    wb.set_value_deferred(sheet, pos, Value::Blank);
+                }
+            }
+        }
+        wb.fill_formula_tree_deferred(sheet, Rect::cell(rect.first), tree);
+        wb.set_array_area_deferred(sheet, rect);
+        wb.recalculate_rect(sheet, rect);
+        Ok(())
+    }
+
+    /// `.FormulaArray` read: the formula of the array formula the range is (or lies in from
+    /// its anchor), or of a single cell; Null for several cells that are no one array formula
+    /// ("If the specified range doesn't contain an array formula, this property returns
+    /// null").
+    fn formula_array(&self, sheet: SheetId, rect: Rect) -> Value {
+        let area = self.wb.borrow().array_area(sheet, rect.first);
+        match area {
+            Some(area) if area.contains(rect.last) => self.formulas(sheet, Rect::cell(rect.first), false),
+            _ if rect.is_cell() => self.formulas(sheet, rect, false),
+            _ => Value::Null,
+        }
+    }
+}
 
 use crate::eval::Env;
 
