@@ -418,20 +418,49 @@ fn fanuc_tape_marks_and_a_colon_program_number_read_as_the_plain_program() {
     let plain = read::read(&format!("O1234 (PART A)\n{body}"), Family::Fanuc, None).unwrap();
     assert_eq!((marked.number, marked.name.as_str()), (Some(1234), "PART A"));
     assert_eq!(marked.blocks, plain.blocks);
-    // A program that no call runs, or a second main program, is never run by this one: a control
-    // runs it only when an operator selects it, so it is refused at its O line, not left out
-    // without a word; so is text after the tape's end.
+    // A second main program (ending with M30, not M99) is never run by this one: a control runs
+    // it only when an operator selects it, so it is refused at its O line, not left out without
+    // a word; so is text after the tape's end.
     let cases = [
         (format!("%\nO1234\n{body}%\nO2000\nG1 X1\nM30\n%\n"), 8, 1, "ends the program at line 7"),
         (format!("O1234\n{body}O2000 (SECOND PART)\nG1 X1\nM30\n"), 6, 1, "O2000 ends with M30, not M99"),
-        (format!("O1234\n{body}O2000\nG1 X1\nM99\n"), 6, 1, "O2000 is called by no M98"),
-        (format!("{body}:2000\nM98 P3000\nM99\nO3000\nM99\n"), 5, 1, "O2000 is called by no M98"),
     ];
     for (text, line, column, says) in cases {
         let e = read::read(&text, Family::Fanuc, None).unwrap_err();
         assert_eq!((e.line, e.column), (line, column), "{text}\n{e}");
-        assert!(e.message.contains(says) && e.message.contains("file of its own"), "{text}\n{e}");
+        assert!(e.message.contains(says), "{text}\n{e}");
     }
+}
+
+/// A subprogram (an O program returning with M99) that the main program does not call is what
+/// a control keeps in memory: "such a program can be stored as a subprogram in memory" (FANUC
+/// 0i-MC, B-64124EN/01 §12.3), and it runs only when called. The file reads as its main program
+/// alone (the oracle: the main program written without it), and the reader notes each stored one
+/// by its O line, including one that only a stored program calls.
+#[test]
+fn fanuc_subprograms_no_call_runs_are_stored_and_noted_not_refused() {
+    let main = "O1234\nG21 G17 G90 G94\nG0 X0 Y0 Z5\nG1 X10 F100\nM30\n";
+    let library = "O2000\nG1 X99 Y99 F100\nM98 P3000\nM99\n:3000\nG1 Y50\nM99\n";
+    let alone = read::read(main, Family::Fanuc, None).unwrap();
+    let with_library = format!("{main}{library}");
+    let stored = read::read(&with_library, Family::Fanuc, None).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(stored.blocks, alone.blocks);
+    assert_eq!(
+        read::notes(&with_library, Family::Fanuc),
+        [
+            "line 6: O2000 stored, not called by the main program",
+            "line 10: O3000 stored, not called by the main program"
+        ]
+    );
+    assert!(read::notes(main, Family::Fanuc).is_empty());
+    // The command line says so on stderr, and times the main program alone.
+    assert_eq!(cycle_time("library.nc", &with_library), cycle_time("main.nc", main));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("library.nc");
+    std::fs::write(&path, &with_library).unwrap();
+    let run = common::cli::ncsheet(&["nc", "time", path.to_str().unwrap(), "--accel", "500", "--rapid", "8000"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(run.stderr.contains("library.nc: line 6: O2000 stored, not called by the main program"), "{}", run.stderr);
 }
 
 /// What the manual bounds (a count of 1–999, four levels of nesting) and what the file does

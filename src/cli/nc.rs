@@ -95,6 +95,9 @@ pub(super) fn read_program(
         };
         Error::User(format!("{name}: {e}{hint}"))
     })?;
+    for note in dialect.notes(&text) {
+        eprintln!("{name}: {note}");
+    }
     Ok((program, lines, name, dialect))
 }
 

@@ -140,6 +140,16 @@ pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Prog
     read_with_lines(text, family, machine).map(|(p, _)| p)
 }
 
+/// What reading `text` as `family` keeps without running, one note a line for stderr: a Fanuc
+/// file's subprograms that no M98 calls (stored, as a control stores them). Empty when the
+/// file does not read.
+pub fn notes(text: &str, family: Family) -> Vec<String> {
+    match family {
+        Family::Fanuc => fanuc_calls::unroll(text).map(|u| u.notes()).unwrap_or_default(),
+        _ => Vec::new(),
+    }
+}
+
 /// [`read`], with the 1-based source line of each block of the model (for messages about a
 /// block found later, e.g. by the motion planner).
 pub fn read_with_lines(

@@ -59,6 +59,12 @@ pub trait Dialect: Sync {
     /// Reads a program as this control does (`crates/ncsheet/src/nc/read.rs`), with the 1-based source line
     /// of each block; `machine` when known, else the reader decides from the program.
     fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError>;
+
+    /// What [`read`](Dialect::read) keeps of `text` without running it, one note a line (a Fanuc
+    /// file's subprograms that no call runs); the command line prints them on stderr.
+    fn notes(&self, _text: &str) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// A dialect shows as its name.

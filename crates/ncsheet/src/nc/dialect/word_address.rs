@@ -175,6 +175,10 @@ impl Dialect for WordAddress {
         read::read_with_lines(text, self.family, machine)
     }
 
+    fn notes(&self, text: &str) -> Vec<String> {
+        read::notes(text, self.family)
+    }
+
     fn render(&self, program: &Program) -> Result<String, NcError> {
         self.write(program, &[])
     }

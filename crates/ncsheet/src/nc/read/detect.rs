@@ -111,6 +111,11 @@ fn telling_in(code: &str) -> Option<(&'static dyn Dialect, String)> {
     if let Some(o) = first.filter(|w| is_program_number(w)) {
         return Some((&dialect::ISO, o.to_string()));
     }
+    // `:1234` alone in its block: the program number in ISO code, the colon for the address O
+    // (read as O1234, see `fanuc_calls`). A Sinumerik main block `:10` is followed by its words.
+    if let Some(colon) = first.filter(|w| is_colon_program_number(w) && second.is_none()) {
+        return Some((&dialect::ISO, format!("{colon} (a program number in ISO code)")));
+    }
     let ends_in_point = |w: &&str| w.len() > 2 && w.ends_with('.') && w[1..w.len() - 1].parse::<f64>().is_ok();
     if let Some(w) = code.split_whitespace().find(ends_in_point) {
         return Some((&dialect::ISO, format!("{w} (a number ending in its point)")));
@@ -130,6 +135,11 @@ fn telling_index(w: &str) -> Option<usize> {
 /// `O1234`: a Fanuc program number.
 fn is_program_number(word: &str) -> bool {
     word.len() > 1 && word.starts_with('O') && word[1..].chars().all(|c| c.is_ascii_digit())
+}
+
+/// `:1234`, a Fanuc program number with the colon ISO code gives the address O.
+fn is_colon_program_number(word: &str) -> bool {
+    word.strip_prefix(':').is_some_and(|n| (1..=4).contains(&n.len()) && n.chars().all(|c| c.is_ascii_digit()))
 }
 
 /// `G07` and `M02` are `G7` and `M2`.
@@ -199,6 +209,21 @@ mod tests {
         assert_eq!(guess("G0 X1 (DIAMON) E\n", None).reason, "the word E (the rapid mark)");
         assert_eq!(guess("E\n", None).dialect.name(), "nc31");
         assert_eq!(guess("G0 X1 ; G7\nN2 G1 X5.\n", None).reason, "the word X5. (a number ending in its point)");
+    }
+
+    /// A Fanuc program numbered in ISO code, `:1234` (the colon is the address O: FANUC 16i
+    /// B-63524EN/01 §8 reads `:` as O), is iso, even when a later block holds a word that would
+    /// tell another control (M2 is LinuxCNC's end, and Fanuc's too); a Sinumerik main block
+    /// `:10` with its words tells nothing.
+    #[test]
+    fn a_colon_program_number_alone_in_its_block_is_a_fanuc_program() {
+        let fanuc = guess("%\n:1234 (PART A)\nG0 X0 Y0\nG1 X10 F100\nM2\n%\n", None);
+        assert_eq!(
+            (fanuc.dialect.name(), fanuc.reason.as_str()),
+            ("iso", "the word :1234 (a program number in ISO code)")
+        );
+        assert_eq!(guess(":0012 ;\nG0 X0 Y0\nM2\n", None).dialect.name(), "iso");
+        assert_eq!(guess(":10 G0 X0\nM2\n", None).dialect.name(), "linuxcnc");
     }
 
     #[test]

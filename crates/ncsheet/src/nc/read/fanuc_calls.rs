@@ -12,7 +12,11 @@
 //! - `M99 P30` returns to the block `N30` of the calling program instead of the block after
 //!   the call;
 //! - a call to a program the file does not hold is the control's alarm 078, here an error
-//!   naming the line and column of its P.
+//!   naming the line and column of its P;
+//! - an `O` program with M99 that no call runs is kept as the control keeps it ("such a program
+//!   can be stored as a subprogram in memory", §12.3): nothing of it runs, and the reader notes
+//!   it ([`Unrolled::notes`]); an `O` program that ends with M30 or M2 is a main program of its
+//!   own, which the control runs only when an operator selects it, so it is refused.
 //!
 //! What the manual leaves to a control's parameters or macro programs is refused by name:
 //! `M98 … Q` (a start sequence number), `M99` in the main program (it runs the program again
@@ -39,6 +43,8 @@ const MAX_TEXT_RUN: usize = 64 << 20;
 pub(crate) struct Unrolled {
     blocks: Vec<Text>,
     order: Vec<usize>,
+    /// The subprograms the file holds that no call runs: their numbers and `O` lines.
+    stored: Vec<(u32, usize)>,
 }
 
 /// One block's text to run, its 1-based line, and the characters before it on that line.
@@ -56,6 +62,15 @@ impl Unrolled {
             let b = &self.blocks[i];
             (Cow::Borrowed(b.text.as_str()), b.line, b.offset)
         })
+    }
+
+    /// What the reader says of the subprograms no call runs: a control keeps them in its memory
+    /// as a library, and runs nothing of them until a call (here none) or an operator selects one.
+    pub(crate) fn notes(&self) -> Vec<String> {
+        self.stored
+            .iter()
+            .map(|(number, line)| format!("line {line}: O{number:04} stored, not called by the main program"))
+            .collect()
     }
 }
 
@@ -143,12 +158,16 @@ pub(crate) fn unroll(text: &str) -> Result<Unrolled, ReadError> {
         bytes_left: written_bytes.saturating_add(MAX_TEXT_RUN),
     };
     run.main()?;
-    if let Some(p) = programs.all.iter().zip(&run.called).skip(1).find(|(_, &called)| !called).map(|(p, _)| p) {
-        let number = p.number.unwrap_or(0);
-        return Err(error(p.line, 1, second_main(number, "is called by no M98 of the main program")));
-    }
+    let stored = programs
+        .all
+        .iter()
+        .zip(&run.called)
+        .skip(1)
+        .filter(|(_, &called)| !called)
+        .map(|(p, _)| (p.number.unwrap_or(0), p.line))
+        .collect();
     let order = run.order;
-    Ok(Unrolled { blocks: texts, order })
+    Ok(Unrolled { blocks: texts, order, stored })
 }
 
 /// The file's blocks, grouped into its `O` programs: the first is the main program (its `O`
@@ -238,7 +257,7 @@ fn program_number_colon(raw: &str) -> Cow<'_, str> {
 fn second_main(number: u32, what: &str) -> String {
     format!(
         "O{number:04} {what}: a program of its own, which a control runs only when it is selected; ncsheet reads \
-         the file's first program and the subprograms it calls, so O{number:04} needs a file of its own"
+         the file's first program and keeps the others as its subprograms, so O{number:04} needs a file of its own"
     )
 }
 
