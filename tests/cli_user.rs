@@ -977,3 +977,28 @@ fn no_default_is_said_twice() {
         }
     }
 }
+
+/// `ncsheet set FILE 'B1=Quantity'` over a table's header cell renames the column as typing
+/// over the header in Excel does ("When a header is changed, all formula references to that
+/// column are automatically adjusted", Barresse and Jones, *Excel Tables*, ch. 2, "The Header
+/// Row"), where the command wrote the new header and left the formulas and the table part
+/// naming Qty. LibreOffice's tables.xlsx: 'Parts Data' holds the table Parts (A1:F6), Use!A1
+/// is SUM(Parts[Qty]), 17 as LibreOffice cached it (2 + 3 + 5 + 7); after B2 = 4 it is
+/// 17 - 2 + 4 = 19.
+#[test]
+fn set_over_a_tables_header_renames_its_column_and_the_formulas_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let renamed = dir.path().join("renamed.xlsx").to_str().unwrap().to_string();
+    let source = repo("tests/data/libreoffice/tables.xlsx");
+    let run = ncsheet(&["set", &source, "--sheet", "Parts Data", "B1=Quantity", "-o", &renamed]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    let run = ncsheet(&["show", &renamed, "Use!A1"]);
+    assert!(run.stdout.contains("=SUM(Parts[Quantity])"), "{}", run.stdout);
+    assert!(run.stdout.lines().any(|l| l.trim() == "value    17"), "{}", run.stdout);
+    let run = ncsheet(&["info", &renamed]);
+    assert!(run.stdout.lines().any(|l| l.contains("Parts") && l.contains("Part No, Quantity,")), "{}", run.stdout);
+    let edited = dir.path().join("edited.xlsx").to_str().unwrap().to_string();
+    let run = ncsheet(&["set", &renamed, "'Parts Data'!B2=4", "-o", &edited]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(ncsheet(&["eval", &edited, "Use!A1"]).stdout.trim(), "19");
+}

@@ -60,7 +60,7 @@ impl Bench {
     }
 
     /// As [`Bench::written`], served with `options` (its port and macro files aside).
-    fn written_with(name: &str, text: &str, bas: &[(&str, &str)], options: Options) -> Bench {
+    fn written_with(name: &str, text: impl AsRef<[u8]>, bas: &[(&str, &str)], options: Options) -> Bench {
         let folder = tempfile::tempdir().unwrap();
         let file = folder.path().join(name);
         std::fs::write(&file, text).unwrap();
@@ -875,8 +875,10 @@ fn serve_timeout_stops_a_macro_run_at_its_statement() {
 }
 
 /// A formula that computes for seconds in little memory: n sums of 1 + 2 + … + 1000, each
-/// by a LAMBDA called 1000 times, n · 500500 in all.
-const SLOW_SUMS: u64 = 10_000;
+/// by a LAMBDA called 1000 times, n · 500500 in all. It must outlast two requests' --timeout
+/// and grace (1.1 s) on a fast machine: 10,000 sums took 0.9 s in a test build, and the request
+/// queued behind them ran.
+const SLOW_SUMS: u64 = 50_000;
 
 /// An edit whose recalculation outlasts `--timeout` (a formula cannot stop partway): its
 /// request is answered with an error naming the limit while the workbook computes on; a
@@ -1050,4 +1052,37 @@ fn connections_that_send_no_whole_request_in_time_are_closed() {
     let (status, out) = bench.post_json("/api/run", &run);
     assert_eq!(status, 400, "the macro's own error after 0.6 s: {out}");
     assert!(out["error"].as_str().unwrap().contains("--timeout of 0.6 s"), "{out}");
+}
+
+/// A header typed over in the workbench renames its table's column, as in Excel ("When a
+/// header is changed, all formula references to that column are automatically adjusted",
+/// Barresse and Jones, *Excel Tables*, ch. 2): LibreOffice's tables.xlsx, Use!A1 is
+/// SUM(Parts[Qty]), 17 as LibreOffice cached it; typed over, B1 "Quantity" makes it
+/// SUM(Parts[Quantity]), and B2 = 4 then gives 17 - 2 + 4 = 19. Undo names the column Qty again.
+#[test]
+fn a_header_typed_over_renames_the_tables_column_and_undo_names_it_back() {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/libreoffice/tables.xlsx");
+    let bench = Bench::written_with("tables.xlsx", std::fs::read(source).unwrap(), &[], Options::default());
+    let window = serde_json::json!({ "sheet": 0, "r0": 0, "r1": 10, "c0": 0, "c1": 8 });
+    let set = |r: u64, c: u64, input: &str| {
+        let body = serde_json::json!({ "sheet": 0, "r": r, "c": c, "input": input, "window": window });
+        let (status, answer) = bench.post_json("/api/set", &body);
+        assert_eq!(status, 200, "{answer}");
+    };
+    set(0, 1, "Quantity");
+    set(1, 1, "4");
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "renamed.xlsx" }));
+    assert_eq!(status, 200, "{answer}");
+    let saved = ncsheet::document::Document::open_file(&bench.file("renamed.xlsx"), &Default::default()).unwrap();
+    let (sheet, a1) = saved.cell("Use!A1").unwrap();
+    assert_eq!(saved.workbook().input(sheet, a1).as_deref(), Some("=SUM(Parts[Quantity])"));
+    assert_eq!(saved.workbook().value(sheet, a1), ncsheet::eval::Value::Number(19.0));
+    for _ in 0..2 {
+        assert_eq!(bench.post_json("/api/undo", &serde_json::json!({ "window": window })).0, 200);
+    }
+    let (status, answer) = bench.post_json("/api/save", &serde_json::json!({ "name": "undone.xlsx" }));
+    assert_eq!(status, 200, "{answer}");
+    let saved = ncsheet::document::Document::open_file(&bench.file("undone.xlsx"), &Default::default()).unwrap();
+    assert_eq!(saved.workbook().input(sheet, a1).as_deref(), Some("=SUM(Parts[Qty])"));
+    assert_eq!(saved.workbook().value(sheet, a1), ncsheet::eval::Value::Number(17.0));
 }

@@ -402,7 +402,10 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
                 wb.cell_name(cell_sheet, pos)
             ))
         })?;
-        wb.set_input_deferred(cell_sheet, pos, &input).map_err(|e| in_file(&args.file, repl::refused(e)))?;
+        // The one edit path of every front end (`Workbook::set_input`): it recalculates what
+        // depends on the cell and, on a table's header, renames the column as Excel does.
+        let input = input.into_owned();
+        wb.set_input(cell_sheet, pos, &input).map_err(|p| in_file(&args.file, Error::User(report::render(wb, &p))))?;
         if let Some(doubt) = hints::doubt_about(wb, cell_sheet, pos, &input) {
             eprintln!("ncsheet: {}: {}: warning: {doubt}", args.file.display(), wb.cell_name(cell_sheet, pos));
         }
@@ -410,7 +413,6 @@ fn set(args: SetArgs, delimiter: Option<u8>) -> Result<()> {
     }
     // A date or time typed in the locale shows as Excel shows it (the cell's format).
     let formats: Vec<Option<&str>> = done.iter().map(|(s, p, typed)| doc.typed_into(*s, *p, typed)).collect();
-    doc.recalculate();
     report_problems(&args.file, doc.workbook());
     let encoded = doc.encode(&out_path)?;
     if let Some(lock) = &lock {

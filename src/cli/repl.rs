@@ -9,7 +9,7 @@ use std::time::Instant;
 use ncsheet::formula::ast::SheetId;
 use ncsheet::io::xlsx::Layout;
 use ncsheet::io::{Opened, Origin};
-use ncsheet::workbook::{Workbook, WorkbookError};
+use ncsheet::workbook::Workbook;
 use rustyline::error::ReadlineError;
 
 use super::output::{self, OutputFormat, Selection};
@@ -231,15 +231,5 @@ impl Session<'_> {
 
     fn select(&self, target: &Target) -> Result<Selection> {
         super::locate(&self.wb, self.file, target, self.sheet)
-    }
-}
-
-/// The error for input that was not taken: a formula with a caret under the fault.
-pub fn refused(e: WorkbookError) -> Error {
-    match e {
-        WorkbookError::Parse { place, text, error } => {
-            Error::User(prepend(&format!("{place}: "), &error.render(&text)))
-        }
-        e => Error::User(e.to_string()),
     }
 }

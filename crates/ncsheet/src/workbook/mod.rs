@@ -743,12 +743,20 @@ impl Workbook {
 
     /// Counts the values of `cells` as changed since [`Workbook::track_changes`]: the file
     /// they were read from holds no value for them (a formula whose result a generator left
-    /// out), so a save must write the value they have now.
+    /// out), so a save must write the value they have now. An array formula's anchor brings
+    /// every cell of its area: the file holds nothing for the cells past the anchor either
+    /// (openpyxl writes `<f t="array" ref="B1:B3">` and no B2, B3), and Excel's save writes
+    /// each cell's value.
     pub fn note_unsaved_values(&mut self, cells: &[(SheetId, Pos)]) {
+        let Some(log) = &mut self.changes else { return };
         for &(sheet, pos) in cells {
-            let Some(id) = self.sheets.get(sheet as usize).and_then(|s| s.get(pos)) else { continue };
-            if let Some(log) = &mut self.changes {
-                log.values.insert(id);
+            let Some(grid) = self.sheets.get(sheet as usize) else { continue };
+            let Some(id) = grid.get(pos) else { continue };
+            log.values.insert(id);
+            if let Some(area) = self.spill.rect(id) {
+                grid.for_each_in(area, &mut |_, cid| {
+                    log.values.insert(cid);
+                });
             }
         }
     }
