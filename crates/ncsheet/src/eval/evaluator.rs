@@ -258,6 +258,14 @@ pub trait Host {
         None
     }
 
+    /// The items of `items`, the value of the array `e`, as a macro's library takes them
+    /// where it wants Strings (Join, Filter): each item whose type writes it otherwise than a
+    /// Double (a Single, a Date, a Currency, a LongLong, [MS-VBAL] 5.5.1.2.4) made that text;
+    /// `None` where no item is such, and for a cell.
+    fn item_texts(&self, _e: &Expr, _items: &Rc<Array>) -> Option<Rc<Array>> {
+        None
+    }
+
     /// The decimal text of `value`, the value of `e`, when a macro holds it as a LongLong past
     /// what a double shows exactly (`9007199254740993^`: CStr, Str and Format show every digit,
     /// "LongLong data type") or as a Decimal (its every digit, "Decimal data type"); `None` for
@@ -658,6 +666,12 @@ impl<'a> Ctx<'a> {
     /// A macro's LongLong's decimal text ([`Host::long_long_text`]).
     pub fn macro_long_long_text(&self, e: &Expr, value: &Value) -> Option<String> {
         self.host?.long_long_text(e, value)
+    }
+
+    /// The items of a macro's array as its library's String parameters take them
+    /// ([`Host::item_texts`]).
+    pub fn macro_item_texts(&self, e: &Expr, items: &std::rc::Rc<Array>) -> Option<Rc<Array>> {
+        self.host?.item_texts(e, items)
     }
 
     /// The whole part of a macro's Decimal no double holds ([`Host::decimal_whole`]).

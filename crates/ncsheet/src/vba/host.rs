@@ -4,13 +4,14 @@
 use std::rc::Rc;
 
 use crate::eval::evaluator::Host;
-use crate::eval::{Ctx, Env, Note, Operand, UserCall, Value, XlError};
+use crate::eval::{Array, Ctx, Env, Note, Operand, UserCall, Value, XlError};
 use crate::formula::address::{Pos, Rect};
-use crate::formula::ast::{BinOp, Expr, SheetId};
+use crate::formula::ast::{BinOp, Expr, ExprKind, SheetId};
 
-use super::ast::{Node, Path, Span};
+use super::ast::{Inspect, Node, Path, Span};
 use super::interp::{Fault, Interp, Run};
-use super::value::{Obj, Var};
+use super::typing::Declared;
+use super::value::{Obj, VArray, Var};
 use super::ErrorKind;
 
 impl Env for Interp<'_, '_> {
@@ -310,6 +311,16 @@ impl Host for Interp<'_, '_> {
         self.long_long_text(e, value)
     }
 
+    fn item_texts(&self, e: &Expr, items: &Rc<Array>) -> Option<Rc<Array>> {
+        // The array a variable holds, known by its items being the very ones evaluated.
+        let ExprKind::Name(name) = &e.kind else { return None };
+        self.peek(name, |held| match held {
+            Var::Array(a) if Rc::ptr_eq(&a.data, items) => self.items_written(a),
+            _ => None,
+        })
+        .flatten()
+    }
+
     fn decimal_whole(&self, e: &Expr, value: &Value, floor: bool) -> Option<f64> {
         self.decimal_whole(e, value, floor)
     }
@@ -591,5 +602,36 @@ impl Interp<'_, '_> {
         let proc = self.run_target(name)?;
         let p = &self.module.procs[proc];
         (p.kind == super::ast::ProcKind::Function && p.public).then_some(proc)
+    }
+}
+
+impl Interp<'_, '_> {
+    /// The items of `a` with each number its type writes otherwise than a Double made that
+    /// text ([MS-VBAL] 5.5.1.2.4, Let-coercion to String): a Single its seven digits, a Date
+    /// its date, a Currency its four places, a LongLong every digit. An array keeps each
+    /// item's type (its declared item type, or the type a Variant item holds), so
+    /// `Join(v, ",")` of `v(0) = CSng(1 / 3)` is "0.3333333", as `CStr(v(0))` is. `None`
+    /// where no item is such, without a look at the items when the array can hold none.
+    fn items_written(&self, a: &VArray) -> Option<Rc<Array>> {
+        let apart = |ty| matches!(ty, Declared::Single | Declared::Date | Declared::Currency | Declared::LongLong);
+        if a.held_types.is_none() && a.exact.is_none() && !apart(a.item_type) {
+            return None;
+        }
+        let mut written: Option<Vec<Value>> = None;
+        for (k, item) in a.data.data.iter().enumerate() {
+            let Value::Number(n) = *item else { continue };
+            let held = a.held(k);
+            let text = match a.exact_item(k) {
+                // The integer kept past 2^53, while it still stands for the item's double.
+                Some(whole) if whole as f64 == n => Some(whole.to_string()),
+                _ if held == Declared::LongLong => super::longlong::long_long_digits(n),
+                _ => self.held_type_text(held, n),
+            };
+            if let Some(text) = text {
+                written.get_or_insert_with(|| a.data.data.clone())[k] = Value::text(text);
+            }
+        }
+        let data = written?;
+        Some(Rc::new(Array { rows: a.data.rows, cols: a.data.cols, data, tail: a.data.tail.clone() }))
     }
 }

@@ -1830,8 +1830,10 @@ impl Interp<'_, '_> {
     #[inline(never)]
     fn string_param_text(&self, var: Var, ty: Option<&Ty>, held: Declared) -> Var {
         match (&var, ty) {
+            // A LongLong's every digit, where a double's text has fifteen (1.23456789012346E+15).
             (Var::Value(Value::Number(n)), Some(Ty::String | Ty::FixedString(_))) => {
-                self.held_type_text(held, *n).map_or(var, |t| Var::Value(Value::text(t)))
+                let digits = || super::longlong::long_long_digits(*n).filter(|_| held == Declared::LongLong);
+                digits().or_else(|| self.held_type_text(held, *n)).map_or(var, |t| Var::Value(Value::text(t)))
             }
             _ => var,
         }

@@ -63,6 +63,13 @@ fn whole(n: f64) -> Option<i64> {
     (n.fract() == 0.0 && (-LONG_LONG_END..LONG_LONG_END).contains(&n)).then_some(n as i64)
 }
 
+/// The digits of the LongLong the whole double `n` is, as a String takes a LongLong
+/// ([MS-VBAL] 5.5.1.2.4: every digit, where a Double's text has fifteen); `None` for a
+/// double that is no LongLong.
+pub(super) fn long_long_digits(n: f64) -> Option<String> {
+    whole(n).map(|k| k.to_string())
+}
+
 /// What a call's arguments hold beyond their doubles, by parameter position: a LongLong
 /// past 2^53, a Decimal whose digits no double gives back (`typing/decimal.rs`).
 #[derive(Debug, Default)]
@@ -84,9 +91,16 @@ fn noted_for(noted: &ExactArgs, index: usize) -> Option<i64> {
 
 /// The argument at parameter position `index` as a LongLong parameter of type `ty` takes
 /// it, where a LongLong was noted for it: already of the type and in its range, though its
-/// nearest double may not be (2^63 - 512 and up round to 2^63, one past the top). `None` for
-/// any other parameter or argument, which converts as usual.
+/// nearest double may not be (2^63 - 512 and up round to 2^63, one past the top). A String
+/// parameter takes a LongLong's or a Decimal's every digit ([MS-VBAL] 5.5.1.2.4, Let-coercion
+/// to String), not its double's (9007199254740993 was "9007199254740992"). `None` for any
+/// other parameter or argument, which converts as usual.
 pub(super) fn long_long_param(noted: &ExactArgs, index: usize, ty: Option<&super::ast::Ty>) -> Option<Var> {
+    if matches!(ty, Some(super::ast::Ty::String)) {
+        let decimal = || noted.decimals.iter().find(|(i, _)| *i == index).map(|&(_, d)| d.text());
+        let text = noted_for(noted, index).map(|k| k.to_string()).or_else(decimal)?;
+        return Some(Var::Value(Value::text(text)));
+    }
     if Declared::of_ty(ty) != Declared::LongLong {
         return None;
     }

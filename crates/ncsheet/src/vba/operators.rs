@@ -264,12 +264,17 @@ impl Interp<'_, '_> {
                 let ord = if matches!(a, Value::Text(_)) { Ordering::Greater } else { Ordering::Less };
                 return Some(Ok(Value::Bool(comparison_holds(op, ord))));
             }
-            // A String against a Variant holding a number: the number's text is compared.
+            // A String against a Variant holding a number: the number's text is compared,
+            // as its type writes it (a Single's seven digits, a Date's date: [`Interp::let_text`]).
             (false, true) => {
                 let shown = if boolean {
                     vba_text(&Value::Bool(number != 0.0)).ok()?
                 } else {
-                    vba_text(&Value::Number(number)).ok()?
+                    let value = Value::Number(number);
+                    match self.let_text(number_expr, &value) {
+                        Some(text) => text.into(),
+                        None => vba_text(&value).ok()?,
+                    }
                 };
                 let ord = if matches!(a, Value::Text(_)) {
                     text_order(text, &shown, self.text_compare())

@@ -312,7 +312,7 @@ impl Dec {
     }
 
     /// The decimal as VBA writes a Decimal: every digit, no exponent, no trailing zeros.
-    pub(super) fn text(self) -> String {
+    pub(in crate::vba) fn text(self) -> String {
         let digits = self.mantissa.to_string();
         let sign = if self.negative { "-" } else { "" };
         let scale = self.scale as usize;

@@ -359,7 +359,10 @@ pub fn filter(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
 /// Exceptions tables). Several rows are two dimensions (a Range's value).
 fn source_array(ctx: &mut Ctx, name: &str, args: &[Expr], code: u32) -> XlResult<std::rc::Rc<Array>> {
     let why = match ctx.eval(&args[0]) {
-        Value::Array(items) if items.rows <= 1 && items.tail.is_none() => return Ok(items),
+        // Each item as the String its type writes ([`Ctx::macro_item_texts`]).
+        Value::Array(items) if items.rows <= 1 && items.tail.is_none() => {
+            return Ok(ctx.macro_item_texts(&args[0], &items).unwrap_or(items))
+        }
         Value::Array(_) => "its array has two dimensions; give it a one-dimensional array",
         _ => "it takes a one-dimensional array, and was given a single value",
     };
