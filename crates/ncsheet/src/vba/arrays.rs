@@ -536,10 +536,12 @@ impl Interp<'_, '_> {
             let Var::Array(a) = slot.var_mut() else { return Err(format!("{own} is not an array")) };
             let ty = element_type(declared, a);
             let k = self.element_at(a, &at).map_err(|m| format!("{own}: {m}"))?;
-            let item = match convert(Var::Value(v.clone()), ty.as_ref(), &own)? {
+            let given = Var::Value(v.clone());
+            let item = match convert(given.clone(), ty.as_ref(), &own)? {
                 Var::Value(item) => item,
                 _ => return Err(format!("{own}: an array item holds a value")),
             };
+            let padded = super::budget::padding_bytes(&given, &Var::Value(item.clone()));
             Rc::make_mut(&mut a.data).data[k] = item;
             if let Some(objects) = a.objects.as_mut().filter(|o| o.contains_key(&k)) {
                 Rc::make_mut(objects).remove(&k);
@@ -552,10 +554,10 @@ impl Interp<'_, '_> {
             a.mark_held(k, if number && variant { held } else { Declared::Variant });
             let typed = matches!(Declared::of_ty(ty.as_ref()), Declared::LongLong | Declared::Variant);
             a.keep_exact_item(k, long_long.filter(|&n| typed && a.data.data[k] == Value::Number(n as f64)));
-            Ok(())
+            Ok(padded)
         });
         match result {
-            Some(r) => r.map_err(|m| self.fault_at(span, m)),
+            Some(r) => self.charge(r.map_err(|m| self.fault_at(span, m))?, span),
             None => Err(self.fault_at(span, format!("{name} is not an array (Dim {name}(…) first)"))),
         }
     }

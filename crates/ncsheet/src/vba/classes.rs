@@ -566,10 +566,13 @@ impl Interp<'_, '_> {
         let old = {
             let mut fields = object.0.fields.borrow_mut();
             let slot = fields.get_mut(name).expect("a public variable");
+            let given = var.clone();
             let new = convert(var, slot.ty.as_ref(), &slot.name).map_err(|m| self.fault_at(link.span, m))?;
+            self.owe(super::budget::padding_bytes(&given, &new));
             slot.replace(new)
         };
-        self.release(&old)
+        self.release(&old)?;
+        self.charge(0, link.span)
     }
 
     /// `obj.Field(i) = value`: an item of a public array variable of the object, converted

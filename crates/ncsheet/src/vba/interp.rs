@@ -2209,6 +2209,7 @@ impl Interp<'_, '_> {
                     // `p.x(3) = 2`: the item of a field that is an array of values, as it holds them.
                     Var::Array(a) if n + 1 == path.len() => {
                         let (field, field_ty) = ty.expect("an array field");
+                        let given = super::budget::padding_bytes(&Var::Value(Value::Blank), &value);
                         let v = match convert(value, Some(field_ty), field)? {
                             Var::Value(v) => {
                                 if let Some(arrays) = a.arrays.as_mut().filter(|held| held.contains_key(&i)) {
@@ -2228,6 +2229,8 @@ impl Interp<'_, '_> {
                         if Rc::strong_count(&a.data) > 1 {
                             copied = super::budget::copy_bytes(&a.data);
                         }
+                        let stored = super::budget::padding_bytes(&Var::Value(Value::Blank), &Var::Value(v.clone()));
+                        copied += stored.saturating_sub(given);
                         Rc::make_mut(&mut a.data).data[i] = v;
                         return Ok(());
                     }
@@ -2235,7 +2238,9 @@ impl Interp<'_, '_> {
                 };
             }
             let (field, field_ty) = ty.expect("a field");
+            let given = value.clone();
             *var = convert(value, Some(field_ty), field)?;
+            copied += super::budget::padding_bytes(&given, var);
             Ok(())
         });
         result.expect("a record variable").map_err(|m| self.fault_at(span, m))?;
@@ -3136,6 +3141,9 @@ impl Interp<'_, '_> {
                 return Err(self.fault_at(self.expr_span(group), "For Each needs a range or an array, not a Type value"))
             }
         };
+        // The items are gathered before the first turn: a loop that leaves at its first item
+        // (`For Each x In a: Exit For` over 9 million) copied them all, each turn uncounted.
+        self.count_copy(items.len(), span)?;
         for (k, item) in items.into_iter().enumerate() {
             self.tick(span)?;
             let ty = held.get(k).copied().unwrap_or(Declared::Variant);

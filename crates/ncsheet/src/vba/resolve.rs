@@ -10,6 +10,7 @@ use pest::iterators::Pair;
 
 use crate::eval::functions::{vba::PREFIX, Registry};
 use crate::formula::ast::{Expr, ExprKind, Span as ByteSpan};
+use crate::formula::limits::MAX_NESTING;
 use crate::formula::parse::{strip_future_prefix, FunctionTable, ParseError, Rule};
 
 use super::ast::*;
@@ -672,12 +673,19 @@ impl Build<'_> {
         self.indexed(pair, e, indexes, end)
     }
 
-    /// `d(k)(i)(j)`: each index list applied to what the one before gives.
+    /// `d(k)(i)(j)`: each index list applied to what the one before gives. The row of a
+    /// pair may be left out (`Range("B2:D6")(, 3)`, the range's `Item(, 3)`): what it means
+    /// is decided by what is indexed when the macro runs (a Range's first row; for an array
+    /// `Interp::index` refuses it).
     pub(super) fn indexed(&self, pair: &Pair<Rule>, mut e: Expr, indexes: Vec<Vec<Arg>>, end: usize) -> Res<Expr> {
+        // The lists as written: `e` holds the first (`a(0)` of `a(0)(0)…`).
+        self.within_chain_limit(pair, indexes.len() + 1)?;
         let at = start(pair);
         for args in indexes {
-            if args.iter().any(|a| a.name.is_some() || a.value.kind == ExprKind::Missing) {
-                return Err(self.error_at(pair, "an index is a value: no name:= and none left out"));
+            let row_left_out = |k: usize| k == 0 && args.len() == 2;
+            let left_out = |(k, a): (usize, &Arg)| a.value.kind == ExprKind::Missing && !row_left_out(k);
+            if args.iter().any(|a| a.name.is_some()) || args.iter().enumerate().any(left_out) {
+                return Err(self.error_at(pair, "an index is a value: no name:= and none left out but a row's"));
             }
             let index = args.into_iter().map(|a| a.value).collect();
             e = self.node(Node::Index { base: e, index, span: self.span(at) }, at, end);
@@ -725,6 +733,9 @@ impl Build<'_> {
         if inside.is_none_or(|i| i + 1 >= parts.len()) {
             return Ok(None);
         }
+        // Each stretch indexed nests the tree once more, and once for each of its lists.
+        let levels = parts.iter().filter(|(_, indexes, _)| !indexes.is_empty()).map(|(_, ix, _)| ix.len() + 1).sum();
+        self.within_chain_limit(pair, levels)?;
         let span = self.span(start(pair));
         let mut e: Option<Expr> = None;
         let mut links = Vec::new();
@@ -748,6 +759,24 @@ impl Build<'_> {
             return Err(self.error_at(pair, format!("{}: a statement cannot be just a value", pair.as_str().trim())));
         }
         Ok(Some(e))
+    }
+
+    /// Refuses a path whose index lists, applied each to what the one before gives
+    /// (`o(1)(1)(1)…`, `a(0)(0).b(0)(0)…`), nest its tree `levels` deep past [`MAX_NESTING`]:
+    /// each level is a native stack frame when the line runs, and 5,000 of them closed one
+    /// after another (so the bracket scan, which counts only those open at once, let them
+    /// through) overflowed the stack.
+    fn within_chain_limit(&self, pair: &Pair<Rule>, levels: usize) -> Res<()> {
+        if levels <= MAX_NESTING {
+            return Ok(());
+        }
+        Err(self.error_at(
+            pair,
+            format!(
+                "{levels} index lists applied one after another, more than {MAX_NESTING} \
+                 (ncsheet's limit on nesting, docs/limits.md)"
+            ),
+        ))
     }
 
     /// The members `path` of what `base` gives; with no base, the path resolved as any path.
