@@ -176,6 +176,7 @@ fn a_procedure_that_does_not_compile_fails_only_when_run() {
     assert_eq!(e.output.printed, ["before"]);
 }
 
+
 // "Miscellaneous constants": vbNewLine is Chr(13) + Chr(10), vbLf Chr(10) alone.
 #[test]
 fn vb_new_line_is_cr_lf() {
@@ -1625,3 +1626,27 @@ fn join_and_filter_of_no_one_dimensional_array_raise_errors() {
     let e = run_with("Sub Main()\n    Debug.Print Join(\"abc\")\nEnd Sub\n", &RunOptions::default()).unwrap_err();
     assert!(e.message.contains("Join") && e.message.contains("one-dimensional"), "{e}");
 }
+
+// "Len function": "Returns a Long containing the number of characters in a string or the
+// number of bytes required to store a variable". The page's own example: Len(MyInt) 2 for an
+// Integer, Len(Customer) 42 for its CustomerRecord (an Integer, a String * 10 and a String * 30,
+// "the size as it will be written to the file"), Len(MyString) 11 for "Hello World" in a
+// Variant ("Len treats it the same as a String"), Len(MyCur) 8 for a Currency. The other
+// sizes are the storage sizes of "Data type summary" (Byte 1, Boolean 2, Long and Single 4,
+// Double and Date 8), an array's item its item type's (Long: 4), a Type's fixed array its
+// items' (3 Integers: 6), LenB of a Long its 4 bytes; a String variable is its characters.
+#[test]
+fn len_of_a_typed_variable_is_the_bytes_it_takes() {
+    let out = run("Type CustomerRecord\n    ID As Integer\n    Name As String * 10\n    Address As String * 30\nEnd Type\n\
+                   Type Triple\n    v(1 To 3) As Integer\n    k As Byte\nEnd Type\n\
+                   Sub Main()\n    Dim Customer As CustomerRecord\n    Dim MyInt As Integer, MyCur As Currency\n    \
+                   Dim MyString, MyLen\n    MyString = \"Hello World\"\n    \
+                   Debug.Print Len(MyInt) & \" \" & Len(Customer) & \" \" & Len(MyString) & \" \" & Len(MyCur)\n    \
+                   Dim b As Byte, t As Boolean, l As Long, s As Single, d As Double, w As Date, tx As String\n    \
+                   l = 123456: tx = \"abc\"\n    \
+                   Debug.Print Len(b) & \" \" & Len(t) & \" \" & Len(l) & \" \" & Len(s) & \" \" & Len(d) & \" \" & Len(w) & \" \" & Len(tx)\n    \
+                   Dim a(3) As Long, tr As Triple\n    \
+                   Debug.Print Len(a(1)) & \" \" & Len(tr) & \" \" & LenB(l) & \" \" & TypeName(Len(l))\nEnd Sub\n");
+    assert_eq!(out.printed, ["2 42 11 8", "1 2 4 4 8 8 3", "4 7 4 Long"]);
+}
+

@@ -426,3 +426,20 @@ fn item_of_a_range_by_one_index_by_row_and_column_and_with_the_row_left_out() {
     );
     assert_eq!(printed, ["$C$2 $D$2 $B$3 $B$4", "$D$4 $AB$2 $Z$4", "$C$2 $D$2 $B$4"]);
 }
+
+/// The same item read straight after the call that gives the range: `Range("B2:D6")(, 3)` is
+/// `Range("B2:D6").Item(, 3)` ("Range.Item property", the row left out the first row as for
+/// `r(, j)` above): $D$2, and `Range("B2:D6")(2, 3)` $D$3, `Cells(3, 2).Resize(2, 2)(, 2)`
+/// $C$3. An array's index is no Range's: left out, it is "Argument not optional" (error 449,
+/// Microsoft's page of that name), never the item at 0.
+#[test]
+fn item_with_the_row_left_out_straight_after_a_call() {
+    let printed = run(
+        &mut Workbook::with_sheet(),
+        "    Debug.Print Range(\"B2:D6\")(, 3).Address & \" \" & Range(\"B2:D6\")(2, 3).Address & \" \" & \
+         Cells(3, 2).Resize(2, 2)(, 2).Address\n    \
+         Dim v: v = Array(Array(1, 2), 3)\n    On Error Resume Next\n    \
+         Debug.Print v(0)(, 1)\n    Debug.Print Err.Number",
+    );
+    assert_eq!(printed, ["$D$2 $D$3 $C$3", " 449 "]);
+}

@@ -304,6 +304,13 @@ pub trait Host {
         result
     }
 
+    /// Whether evaluating the host's node `id` may run macro code (a call, a property, anything
+    /// that could change a variable); `false` only for reads that change nothing, such as
+    /// `Len(t)` of a variable.
+    fn may_run_code(&self, _id: u32) -> bool {
+        true
+    }
+
     /// The length in characters of the text variable `name` holds while it grows in place
     /// (`s = s & …`), known without making its value; `None` for anything else.
     fn text_length(&self, _name: &str) -> Option<usize> {
@@ -1249,6 +1256,11 @@ impl<'a> Ctx<'a> {
     /// rules where a cell's formula follows Excel's).
     pub fn in_macro(&self) -> bool {
         self.host.is_some()
+    }
+
+    /// [`Host::may_run_code`] of the host's node `id`: `true` without a host.
+    pub fn host_may_run_code(&self, id: u32) -> bool {
+        self.host.is_none_or(|h| h.may_run_code(id))
     }
 
     /// [`Host::text_length`] of the host's variable `name`, when there is a host.

@@ -569,6 +569,13 @@ pub enum Inspect {
     IsObject,
     /// `IsDate(x)`: a Date, or text that reads as a date or time.
     IsDate,
+    /// `IsEmpty(x)`: a Variant never given a value; an object without a value is not.
+    IsEmpty,
+    /// `Len(x)` (`LenB(x)` with `bytes`): a fixed-size variable's bytes, else the text's
+    /// length; the node's expression is the function table's call (`storage_size.rs`).
+    Len {
+        bytes: bool,
+    },
 }
 
 #[derive(Debug)]

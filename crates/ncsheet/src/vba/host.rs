@@ -371,6 +371,18 @@ impl Host for Interp<'_, '_> {
         self.add_work(units);
     }
 
+    fn may_run_code(&self, id: u32) -> bool {
+        match &self.module.nodes[id as usize] {
+            // `Len(t)`: its call runs code only where its argument does.
+            Node::Inspect { what: Inspect::Len { .. }, arg, .. } => {
+                let mut found = false;
+                arg.visit(&mut |e| found |= matches!(e.kind, ExprKind::Host(id) if self.may_run_code(id)));
+                found
+            }
+            _ => true,
+        }
+    }
+
     fn text_length(&self, name: &str) -> Option<usize> {
         self.with_slot(name, |s| s.growing_chars()).flatten()
     }

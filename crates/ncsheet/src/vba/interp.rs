@@ -948,6 +948,13 @@ impl Interp<'_, '_> {
 
     /// Whole-number indexes, rounded as VBA rounds them.
     pub fn index(&self, e: &Expr, what: &str) -> Run<i64> {
+        // `a(, 2)`: only a Range's row may be left out (`Range("B2:D6")(, 3)`); an array's
+        // index is VBA's "Argument not optional" (error 449), never the 0 a blank gives.
+        if e.kind == ExprKind::Missing {
+            let mut fault = self.vba_fault(449, &format!("{what} is left out"));
+            fault.span = Some(self.expr_span(e));
+            return Err(fault);
+        }
         let n = self.number(e, what)?.round_ties_even();
         // VBA's indexes are Longs: 1E+300 is an overflow, not the largest integer.
         if !(i32::MIN as f64..=i32::MAX as f64).contains(&n) {

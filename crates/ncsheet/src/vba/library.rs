@@ -9,7 +9,7 @@ use crate::eval::functions::vba::{errors, var_type_of};
 use pest::iterators::Pair;
 
 use crate::eval::functions::Registry;
-use crate::eval::{Array, Env, Value};
+use crate::eval::{Array, Env, Operand, Value};
 use crate::formula::ast::{BinOp, Expr, ExprKind};
 use crate::formula::parse::{FunctionTable, Rule};
 
@@ -241,6 +241,9 @@ impl Interp<'_, '_> {
         }
     }
 
+    /// Out of line: the evaluator's frame, which every nested call of a macro stacks, would
+    /// otherwise hold the locals of every inspection (`IsEmpty`, `Len`, `TypeName` …).
+    #[inline(never)]
     pub(super) fn inspect(&self, what: Inspect, arg: &Expr) -> Run<Value> {
         match what {
             Inspect::VarType => self.var_type(arg).map(Value::Number),
@@ -248,6 +251,48 @@ impl Interp<'_, '_> {
             Inspect::TypeName => self.type_name(arg).map(Value::text),
             Inspect::IsObject => self.is_object(arg).map(Value::Bool),
             Inspect::IsDate => self.is_date(arg).map(Value::Bool),
+            Inspect::IsEmpty => self.is_empty(arg).map(Value::Bool),
+            Inspect::Len { bytes } => self.storage_len(arg, bytes, self.expr_span(arg)),
+        }
+    }
+
+    /// `IsEmpty(x)` ("IsEmpty function": "IsEmpty returns True if the variable is
+    /// uninitialized, or is explicitly set to Empty; otherwise, it returns False"): a Variant
+    /// holding a Worksheet, a Collection or Nothing is set, so not empty, where reading it as
+    /// a value stopped the macro; an object with a default member is read as that member's
+    /// value, so `IsEmpty(cell)` of a Range is its cell's emptiness.
+    fn is_empty(&self, arg: &Expr) -> Run<bool> {
+        if self.is_empty_literal(arg) || self.is_nothing_literal(arg) {
+            return Ok(self.is_empty_literal(arg));
+        }
+        let (var, named) = match &arg.kind {
+            ExprKind::Name(name) => (self.lookup(name).unwrap_or(Var::Value(Value::Blank)), true),
+            ExprKind::Host(_) | ExprKind::Paren(_) => (self.var_of(arg, true)?, false),
+            _ => return Ok(self.eval(arg)?.is_blank()),
+        };
+        match var {
+            Var::Value(v) => Ok(v.is_blank()),
+            // An object variable Set to Nothing is set (to no object), so not empty; the same
+            // holder read through a path is a member's value, Empty when the cell or the
+            // regex group has none (`IsEmpty(Cells(6, 1).Value)`).
+            Var::Obj(Obj::Value(Value::Blank)) => Ok(!named),
+            Var::Obj(obj) if self.reads_as_value(&obj) => Ok(match self.operand_of(obj, self.expr_span(arg))? {
+                Operand::Value(v) => v.is_blank(),
+                Operand::Ref(sheet, rect) => self.ctx().rect_value(sheet, rect).is_blank(),
+                _ => false,
+            }),
+            _ => Ok(false),
+        }
+    }
+
+    /// An object that a value is read from: a value, a Range, Err, a class with a default
+    /// member (what `operand_of` reads); a Worksheet, a Collection or Nothing has none.
+    fn reads_as_value(&self, obj: &Obj) -> bool {
+        match obj {
+            Obj::Value(_) | Obj::Range(..) | Obj::Lines(..) | Obj::Areas(..) | Obj::Err | Obj::Unkept(_) => true,
+            Obj::Regex(r) => r.default_value().is_some(),
+            Obj::Instance(object) => self.has_default_member(object),
+            _ => false,
         }
     }
 

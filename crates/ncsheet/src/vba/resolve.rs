@@ -427,8 +427,23 @@ fn inspection(lower: &str) -> Option<Inspect> {
         "typename" => Some(Inspect::TypeName),
         "isobject" => Some(Inspect::IsObject),
         "isdate" => Some(Inspect::IsDate),
+        "isempty" => Some(Inspect::IsEmpty),
         _ => None,
     }
+}
+
+/// `Len(x)` / `LenB(x)` of a variable or an array's item (`bytes` for LenB), whose answer is
+/// its storage size when it is declared of a fixed-size type or a Type ("Len function":
+/// "the number of bytes required to store a variable"); any other argument is only text.
+fn storage_size_asked(lower: &str, args: &[Arg]) -> Option<bool> {
+    let bytes = match lower {
+        "len" => false,
+        "lenb" => true,
+        _ => return None,
+    };
+    let [arg] = args else { return None };
+    let variable = matches!(arg.value.kind, ExprKind::Name(_) | ExprKind::Host(_));
+    (arg.name.is_none() && variable).then_some(bytes)
 }
 
 /// `Module2.Rate` as the interpreter names a module-level variable qualified by its module:
@@ -1286,6 +1301,14 @@ impl Build<'_> {
             let arg = args[0].value.clone();
             let at = start(pair);
             return Ok(self.node(Node::Inspect { what, arg, span: self.span(at) }, at, end));
+        }
+        // `Len(n)` of a variable: its declared type decides when the macro runs (`storage_size.rs`).
+        if let Some(bytes) = storage_size_asked(&lower, args) {
+            if let Some(call) = self.function_call(pair, &format!("{PREFIX}{lower}"), &link)? {
+                let at = start(pair);
+                let what = Inspect::Len { bytes };
+                return Ok(self.node(Node::Inspect { what, arg: call, span: self.span(at) }, at, end));
+            }
         }
         // `Left$(…)`: the `$` form, a String, where VBA has one apart (Null is error 94 there).
         if link.name.ends_with('$') {

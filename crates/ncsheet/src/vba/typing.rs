@@ -637,9 +637,10 @@ impl Interp<'_, '_> {
             // `Empty` in arithmetic is an Integer 0 ([MS-VBAL] 5.6.9.3's effective value type).
             Node::Empty if typing == Typing::Held => Declared::Integer,
             Node::Inspect { what: Inspect::VarType, .. } => Declared::Integer,
+            Node::Inspect { what: Inspect::Len { .. }, .. } => Declared::Long,
             Node::Is { .. }
             | Node::TypeOf { .. }
-            | Node::Inspect { what: Inspect::IsMissing | Inspect::IsDate, .. } => Declared::Boolean,
+            | Node::Inspect { what: Inspect::IsMissing | Inspect::IsDate | Inspect::IsEmpty, .. } => Declared::Boolean,
             _ => Declared::Variant,
         }
     }

@@ -1097,7 +1097,7 @@ fn mid(ctx: &mut Ctx, args: &[Expr]) -> XlResult<Value> {
     // arguments run, so only when they run no macro code (which could change the text).
     let runs_macro_code = |e: &Expr| {
         let mut found = false;
-        e.visit(&mut |e| found |= matches!(e.kind, ExprKind::Host(_)));
+        e.visit(&mut |e| found |= matches!(e.kind, ExprKind::Host(id) if ctx.host_may_run_code(id)));
         found
     };
     let chars = match args {
