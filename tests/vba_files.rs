@@ -1020,3 +1020,27 @@ fn a_variant_number_is_written_with_the_type_it_holds() {
     let bytes = out.files.iter().find(|(n, _)| n == "V.BIN").map(|(_, b)| b.clone()).unwrap();
     assert_eq!(bytes, [1, 0, 2, 0, 2, 0, 5, 0, 3, 0, 0x70, 0x11, 0x01, 0x00]);
 }
+
+/// "Print # statement" writes text in the system's ANSI code page, the one the project was
+/// written on: a Chinese shop's Excel (code page 936) writes the comment "(刀具 T1)" in GBK, a
+/// Japanese one (932) reads "工具径補正" from Shift-JIS with Line Input #. The bytes are Python's
+/// gbk and shift_jis codecs' ('(刀具 T1)'.encode('gbk')); before, every file was Windows-1252,
+/// so the Chinese comment was refused and the Japanese line read as mojibake.
+#[test]
+fn text_files_are_written_and_read_in_the_projects_code_page() {
+    let chinese = RunOptions { code_page: Some(936), ..sandbox(&[]) };
+    let src = "Sub Main()\nOpen \"p.nc\" For Output As #1\nPrint #1, \"(刀具 T1)\"\nClose #1\nEnd Sub\n";
+    let out = run_with(src, &chinese).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.files, vec![("p.nc".to_string(), b"(\xb5\xb6\xbe\xdf T1)\r\n".to_vec())]);
+    let japanese =
+        RunOptions { code_page: Some(932), ..sandbox(&[("t.txt", b"\x8d\x48\x8b\xef\x8c\x61\x95\xe2\x90\xb3\r\n")]) };
+    let src = "Sub Main()\nDim s As String\nOpen \"t.txt\" For Input As #1\nLine Input #1, s\nClose #1\n\
+               Debug.Print s; Len(s)\nEnd Sub\n";
+    assert_eq!(run_with(src, &japanese).unwrap_or_else(|e| panic!("{e}")).printed, ["工具径補正 5 "]);
+    // A character the code page has not is refused by name, never replaced.
+    let src = "Sub Main()\nOpen \"p.nc\" For Output As #1\nPrint #1, \"Ω\"\nClose #1\nEnd Sub\n";
+    let e = run_with(src, &sandbox(&[])).unwrap_err();
+    assert!(e.message.contains("has no place in Windows-1252"), "{e}");
+    let e = run_with(&src.replace('Ω', "ğ"), &chinese).unwrap_err();
+    assert!(e.message.contains("has no place in code page 936 (GBK)"), "{e}");
+}

@@ -465,3 +465,37 @@ fn vba_project_of_bytes(xlsm: &Path) -> Vec<u8> {
     std::io::Read::read_to_end(&mut zip.by_name("xl/vbaProject.bin").unwrap(), &mut bytes).unwrap();
     bytes
 }
+
+/// A module file without an `Attribute VB_Name` line (a snippet saved from a forum, a module
+/// typed in an editor) is named by its file name, and where that is no VBA module name ("gcode
+/// writer.bas", "2d.bas": a module name starts with a letter and has no space) or is taken, as
+/// the VBA editor names a module it makes: Module1, Module2 …, the first free. Before, such a
+/// file was refused. olevba reads the names back from the project's dir stream.
+#[test]
+fn module_files_without_a_name_are_named_as_the_editor_names_new_modules() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let spaced = write("gcode writer.bas", "Sub WriteIt()\r\n    Range(\"A1\").Value = 1\r\nEnd Sub\r\n");
+    let digit = write("2d.bas", "Function Twice(x)\r\n    Twice = 2 * x\r\nEnd Function\r\n");
+    let plain = write("Helpers.bas", "Function Half(x)\r\n    Half = x / 2\r\nEnd Function\r\n");
+    let out = dir.path().join("named.xlsm");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("sheets/chamfer.xlsx");
+    let args = ["macros", source.to_str().unwrap(), "--import", &spaced, "--import", &digit, "--import", &plain];
+    let run = common::cli::ncsheet(&[&args[..], &["-o", out.to_str().unwrap()]].concat());
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("gcode writer.bas: no Attribute VB_Name line") && run.stderr.contains("read as Module1")
+    );
+    let project = read_project(&ncsheet::io::open(&out).unwrap().layout.unwrap().vba_project.unwrap()).unwrap();
+    let names: Vec<&str> = project.modules.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names[names.len() - 3..], ["Module1", "Module2", "Helpers"]);
+    if let Some(theirs) = olevba(&out) {
+        for name in ["VBA/Module1", "VBA/Module2", "VBA/Helpers"] {
+            assert!(theirs.contains_key(name), "{name} not in {:?}", theirs.keys().collect::<Vec<_>>());
+        }
+    }
+}

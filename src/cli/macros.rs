@@ -26,8 +26,8 @@ pub struct MacrosArgs {
     /// Write the modules into this folder (made if missing) instead of listing them
     #[arg(long, value_name = "DIR", conflicts_with = "import")]
     pub export: Option<PathBuf>,
-    /// A module to put into the workbook (.bas, or a class .cls; named by its Attribute VB_Name line or its
-    /// file name); give it once per module
+    /// A module to put into the workbook (.bas, or a class .cls; named by its Attribute VB_Name line, else
+    /// its file name, else Module1, Module2 … as the VBA editor names a new module); give it once per module
     #[arg(long, value_name = "FILE.bas", requires = "output")]
     pub import: Vec<PathBuf>,
     /// With --import, the ANSI code page the module files are in when they are not UTF-8 (1252
@@ -110,7 +110,11 @@ fn import(
         // unless the user names theirs. A project that does not read is refused below, naming
         // its stream.
         let code_page = code_page.or_else(|| read_project(old).ok().map(|p| p.code_page));
-        let new = modules.iter().map(|m| read_module(m, code_page)).collect::<Result<Vec<_>>>()?;
+        let names: Vec<String> =
+            read_project(old).map(|p| p.modules.into_iter().map(|m| m.name).collect()).unwrap_or_default();
+        // With --replace a file named after a module is meant to replace it.
+        let replaceable = if matches!(on_existing, OnExisting::Replace) { names.clone() } else { Vec::new() };
+        let new = read_modules(modules, code_page, Names { taken: names, replaceable: &replaceable })?;
         let bytes = add_modules(old, &new, on_existing, on_protected)
             .map_err(|e| Error::User(format!("{}: xl/vbaProject.bin: {e}", file.display())))?;
         let ncsheet::io::Origin::Xlsx(source) = &opened.origin else {
@@ -128,9 +132,8 @@ fn import(
         let code_name = entry.code_name.get_or_insert_with(|| format!("Sheet{}", i + 1)).clone();
         project.push(document_module(&code_name, WORKSHEET_CLASS));
     }
-    for path in modules {
-        project.push(read_module(path, code_page)?);
-    }
+    let taken = project.iter().map(|m| m.name.clone()).collect();
+    project.extend(read_modules(modules, code_page, Names { taken, replaceable: &[] })?);
     let project_code_page = code_page.or_else(|| first_guessed_code_page(modules)).unwrap_or(NEW_PROJECT_CODE_PAGE);
     let bytes = build_project_in(&project, 0x4E, project_code_page).map_err(|e| {
         let hint = if code_page.is_none() { " (--code-page N writes the project in another)" } else { "" };
@@ -187,17 +190,41 @@ pub fn read_module_text(path: &Path, code_page: Option<u16>) -> Result<String> {
     })
 }
 
-/// A .bas or .cls file as a module: named by its `Attribute VB_Name` line, else by the file name.
-pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModule> {
+/// The module names a file without an `Attribute VB_Name` line is named beside.
+pub(super) struct Names<'n> {
+    /// The project's modules: a file is not named as one of them.
+    pub taken: Vec<String>,
+    /// Those of them a file's name may name all the same, as the one it replaces (`--replace`).
+    pub replaceable: &'n [String],
+}
+
+/// The .bas and .cls files `paths` as modules, in order, each named by its `Attribute VB_Name`
+/// line, else by its file name, else as the VBA editor names an import without a name: the
+/// first of Module1, Module2 … (Class1 … for a class) that neither `names` nor an earlier file
+/// holds, said on stderr.
+pub(super) fn read_modules(paths: &[PathBuf], code_page: Option<u16>, mut names: Names) -> Result<Vec<NewModule>> {
+    let mut modules = Vec::with_capacity(paths.len());
+    for path in paths {
+        let module = read_module(path, code_page, &names)?;
+        names.taken.push(module.name.clone());
+        modules.push(module);
+    }
+    Ok(modules)
+}
+
+/// One module file as [`read_modules`] reads it, beside the modules `names`.
+fn read_module(path: &Path, code_page: Option<u16>, names: &Names) -> Result<NewModule> {
     let text = read_module_text(path, code_page)?;
     let is_cls = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("cls"));
     let (kind, source) =
         module_from_export(&text, is_cls).map_err(|m| Error::User(format!("{}: {m}", path.display())))?;
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let name = source
+    let attribute = source
         .lines()
-        .find_map(|l| l.trim().strip_prefix("Attribute VB_Name = ").map(|n| n.trim_matches('"').to_string()))
-        .unwrap_or(stem);
+        .find_map(|l| l.trim().strip_prefix("Attribute VB_Name = ").map(|n| n.trim_matches('"').to_string()));
+    let name = match attribute {
+        Some(name) => name,
+        None => name_from_file(path, kind, names),
+    };
     if !ncsheet::vba::project_edit::is_module_name(&name) {
         return Err(Error::User(format!(
             "{}: '{name}' is not a VBA module name (a letter, then letters, digits or _, at most 31)",
@@ -205,6 +232,27 @@ pub(super) fn read_module(path: &Path, code_page: Option<u16>) -> Result<NewModu
         )));
     }
     Ok(NewModule { name, kind, source })
+}
+
+/// The name of a module file without an `Attribute VB_Name` line: its file name when that is a
+/// module name no other module has (or one it replaces), else the editor's next free Module*N*
+/// (Class*N*).
+fn name_from_file(path: &Path, kind: ModuleKind, names: &Names) -> String {
+    let among = |list: &[String], name: &str| list.iter().any(|t| t.eq_ignore_ascii_case(name));
+    let is_taken = |name: &str| among(&names.taken, name);
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let free = !is_taken(&stem) || among(names.replaceable, &stem);
+    if ncsheet::vba::project_edit::is_module_name(&stem) && free {
+        return stem;
+    }
+    let base = if kind == ModuleKind::Class { "Class" } else { "Module" };
+    let name = (1..).map(|n| format!("{base}{n}")).find(|n| !is_taken(n)).expect("a free name");
+    eprintln!(
+        "ncsheet: {}: no Attribute VB_Name line, and its file name is no free module name: read as {name}, \
+         as the VBA editor names such an import",
+        path.display()
+    );
+    name
 }
 
 /// The VBA project of a workbook file; a workbook without one is an error saying so.

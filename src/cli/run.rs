@@ -47,7 +47,8 @@ pub struct RunArgs {
     /// The ANSI code page the .bas and .cls files are in when they are not UTF-8: the VBA
     /// editor exports a module in the system's (1252 Western, 1251 Cyrillic, 932 Japanese, 936
     /// Simplified Chinese, 949 Korean, 950 Traditional Chinese; readable: 874, 932, 936, 949, 950,
-    /// 1250-1258, 10000, 20866, 28591-28599, 65001). Default: the workbook's own VBA project's;
+    /// 1250-1258, 10000, 20866, 28591-28599, 65001); the macro's text files (Print #, Line
+    /// Input #) are written and read in it too. Default: the workbook's own VBA project's;
     /// without one, a file with bytes past ASCII that is not UTF-8 is refused at the first
     #[arg(long = "code-page", visible_alias = "codepage", value_name = "N",
           value_parser = super::macros::parse_code_page)]
@@ -245,6 +246,7 @@ fn run_on_this_thread(mut args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         project: other_modules(&args, project, file, code_page)?,
         classes: class_modules(&args, project, code_page)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
+        code_page,
         files: macro_files::access(
             args.out_dir.as_deref(),
             &args.in_files,
@@ -480,14 +482,12 @@ fn class_modules(
 /// The --module files of one kind (a .cls file with a class header or named .cls is a class
 /// module), by their `Attribute VB_Name` or file name.
 fn given_modules(args: &RunArgs, kind: ModuleKind, code_page: Option<u16>) -> Result<Vec<(String, String)>> {
-    let mut out = Vec::new();
-    for path in &args.modules {
-        let m = super::macros::read_module(path, code_page)?;
-        if m.kind == kind {
-            out.push((m.name, m.source));
-        }
-    }
-    Ok(out)
+    let read = super::macros::read_modules(
+        &args.modules,
+        code_page,
+        super::macros::Names { taken: Vec::new(), replaceable: &[] },
+    )?;
+    Ok(read.into_iter().filter(|m| m.kind == kind).map(|m| (m.name, m.source)).collect())
 }
 
 /// What a module of the project belongs to: nothing (a standard module), a sheet (its code

@@ -261,7 +261,10 @@ impl Document {
         options: RunOptions,
     ) -> Result<vba::RunOutput, vba::MacroError> {
         let sheets = self.opened.layout.iter().flat_map(|l| &l.sheets);
+        // Text files in the code page of the machine that wrote the workbook's project.
+        let own_code_page = self.vba_project().and_then(Result::ok).map(|p| p.code_page);
         let options = RunOptions {
+            code_page: options.code_page.or(own_code_page),
             code_names: sheets.clone().filter_map(|(name, s)| Some((s.code_name.clone()?, name.clone()))).collect(),
             active_cells: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.active_cell?))).collect(),
             selections: sheets.clone().filter_map(|(name, s)| Some((name.clone(), s.selection.clone()?))).collect(),

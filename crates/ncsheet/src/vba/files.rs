@@ -17,9 +17,12 @@
 //! Input # statement" in the Office VBA language reference; [MS-VBAL] 5.4.5): `Print #`
 //! writes numbers with a space before (for the sign) and after, `;` joins, `,` and `Tab` move
 //! to the next 14-column print zone; `Write #` quotes strings, separates items with commas
-//! and writes `#TRUE#`/`#FALSE#`; every line ends with CR LF. Text is written in Windows-1252,
-//! the ANSI code page of a Western Excel (`CreateTextFile(…, True)` writes UTF-16 with its
-//! byte-order mark): a character Windows-1252 has not is refused, never replaced.
+//! and writes `#TRUE#`/`#FALSE#`; every line ends with CR LF. Text files are written and read
+//! in the ANSI code page the project was written in ([`super::RunOptions::code_page`]; Windows-1252,
+//! a Western Excel's, when none is known), as VBA writes them in the system's: a Chinese shop's
+//! comments go out in GBK (`CreateTextFile(…, True)` writes UTF-16 with its byte-order mark). A
+//! character the code page has not is refused, never replaced. Binary and Random files hold
+//! their Strings in Windows-1252.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -544,7 +547,7 @@ pub(super) fn error_number(e: XlError) -> Option<u32> {
 /// Text in Windows-1252, VBA's ANSI code page, for a Binary or Random file; a character it
 /// has not is refused.
 pub(super) fn ansi_bytes(text: &str) -> Result<Vec<u8>, String> {
-    encode(text, false).map_err(|c| {
+    encode(text, false, WESTERN).map_err(|c| {
         format!("the character {c:?} (U+{:04X}) has no place in Windows-1252, the code page VBA writes", c as u32)
     })
 }
@@ -554,26 +557,45 @@ pub(super) fn ansi_text(bytes: &[u8]) -> Rc<str> {
     encoding_rs::WINDOWS_1252.decode_without_bom_handling(bytes).0.into()
 }
 
-/// Text as the file holds it: Windows-1252, or UTF-16LE for a Unicode TextStream.
-fn encode(text: &str, unicode: bool) -> Result<Vec<u8>, char> {
+/// A Western Excel's ANSI code page.
+const WESTERN: u16 = 1252;
+
+/// The encoding of the ANSI code page `code_page`, Windows-1252 for one ncsheet cannot write
+/// (the project reader and `--code-page` refuse those before a macro runs).
+fn ansi_encoding(code_page: u16) -> &'static encoding_rs::Encoding {
+    super::project::encoding_for(code_page).unwrap_or(encoding_rs::WINDOWS_1252)
+}
+
+/// How messages name the code page `code_page`.
+fn code_page_name(code_page: u16) -> String {
+    match code_page {
+        WESTERN => "Windows-1252".into(),
+        n => format!("code page {n} ({})", ansi_encoding(n).name()),
+    }
+}
+
+/// Text as the file holds it: in the ANSI code page `code_page`, or UTF-16LE for a Unicode
+/// TextStream.
+fn encode(text: &str, unicode: bool, code_page: u16) -> Result<Vec<u8>, char> {
     if unicode {
         return Ok(text.encode_utf16().flat_map(u16::to_le_bytes).collect());
     }
-    let (bytes, _, unmappable) = encoding_rs::WINDOWS_1252.encode(text);
+    let encoding = ansi_encoding(code_page);
+    let (bytes, _, unmappable) = encoding.encode(text);
     if unmappable {
-        let bad = text.chars().find(|c| encoding_rs::WINDOWS_1252.encode(&c.to_string()).2).unwrap_or('?');
+        let bad = text.chars().find(|c| encoding.encode(&c.to_string()).2).unwrap_or('?');
         return Err(bad);
     }
     Ok(bytes.into_owned())
 }
 
-/// A file's bytes as text: UTF-16 after its byte-order mark, else Windows-1252 (VBA's ANSI).
-fn decode(bytes: &[u8]) -> Rc<str> {
+/// A file's bytes as text: UTF-16 after its byte-order mark, else the ANSI code page `code_page`.
+fn decode(bytes: &[u8], code_page: u16) -> Rc<str> {
     if let [0xFF, 0xFE, rest @ ..] = bytes {
         let units: Vec<u16> = rest.chunks_exact(2).map(|c| u16::from_le_bytes([c[0], c[1]])).collect();
         return String::from_utf16_lossy(&units).into();
     }
-    encoding_rs::WINDOWS_1252.decode_without_bom_handling(bytes).0.into()
+    ansi_encoding(code_page).decode_without_bom_handling(bytes).0.into()
 }
 
 /// The next line of `text` from `at`, and where the one after starts. `lf`: a lone LF ends a
@@ -655,6 +677,11 @@ impl Interp<'_, '_> {
         self.refused(link.span, message)
     }
 
+    /// The ANSI code page text files are in ([`super::RunOptions::code_page`]).
+    fn code_page(&self) -> u16 {
+        self.options.code_page.unwrap_or(WESTERN)
+    }
+
     pub(super) fn access(&self) -> &super::FileAccess {
         self.options.files.as_ref().expect("file statements parse only when the run has files")
     }
@@ -718,7 +745,7 @@ impl Interp<'_, '_> {
         };
         drop(files);
         let Some(bytes) = bytes else { return Ok(None) };
-        let text = decode(&bytes);
+        let text = decode(&bytes, self.code_page());
         self.charge(text.len() as u64, span)?;
         Ok(Some((text, bytes.len())))
     }
@@ -869,13 +896,21 @@ impl Interp<'_, '_> {
     /// Appends text to an open file, counted in the memory budget.
     fn put_text(&self, channel: Channels, text: &str, span: Span) -> Run<()> {
         let (file, unicode, name) = self.writer(channel, span)?;
-        let bytes = encode(text, unicode).map_err(|c| {
+        let code_page = self.code_page();
+        let bytes = encode(text, unicode, code_page).map_err(|c| {
             self.unsupported(
                 span,
                 format!(
-                    "\"{name}\": the character {c:?} (U+{:04X}) has no place in Windows-1252, the code page VBA writes \
-                     text files in (FileSystemObject's CreateTextFile(name, True, True) writes Unicode)",
-                    c as u32
+                    "\"{name}\": the character {c:?} (U+{:04X}) has no place in {}, the code page VBA writes \
+                     text files in (FileSystemObject's CreateTextFile(name, True, True) writes Unicode){}",
+                    c as u32,
+                    code_page_name(code_page),
+                    if self.options.code_page.is_none() {
+                        "; `ncsheet run --code-page N` names the code page of the Excel the macro is for \
+                         (936 Simplified Chinese, 932 Japanese, 1251 Cyrillic …)"
+                    } else {
+                        ""
+                    }
                 ),
             )
         })?;

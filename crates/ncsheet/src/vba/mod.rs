@@ -300,6 +300,7 @@ mod replace;
 mod resolve;
 mod sheet_ops;
 mod sort;
+mod storage_size;
 mod text_to_columns;
 mod typing;
 mod udf;
@@ -490,6 +491,11 @@ pub struct RunOptions {
     /// The workbook's file name (`Book1.xlsm`), for `Address(External:=True)`; `None` when
     /// the run does not know it (the address is then refused, never invented).
     pub workbook_name: Option<String>,
+    /// The ANSI code page of the machine the project was written on (its PROJECTCODEPAGE record,
+    /// or `run --code-page` for module files): `Print #`, `Write #` and `Line Input #` write and
+    /// read text files in it, as VBA does in the system's code page. `None`: Windows-1252, a
+    /// Western Excel's.
+    pub code_page: Option<u16>,
     /// The files the macro may read and write (`run --out-dir`, `--in-file`); `None`: file
     /// statements are refused by name, as when the language had none.
     pub files: Option<FileAccess>,
@@ -629,6 +635,7 @@ impl Default for RunOptions {
             project: Vec::new(),
             classes: Vec::new(),
             workbook_name: None,
+            code_page: None,
             files: None,
             answers: None,
             mapped_dirs: Vec::new(),

@@ -483,7 +483,7 @@ fn utf16(data: &[u8]) -> String {
 }
 
 /// The text encoding of a Windows code page.
-fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
+pub(super) fn encoding_for(code_page: u16) -> Option<&'static encoding_rs::Encoding> {
     let label = match code_page {
         874 | 1250..=1258 => format!("windows-{code_page}"),
         932 => "shift_jis".into(),
