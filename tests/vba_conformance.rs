@@ -1650,3 +1650,15 @@ fn len_of_a_typed_variable_is_the_bytes_it_takes() {
     assert_eq!(out.printed, ["2 42 11 8", "1 2 4 4 8 8 3", "4 7 4 Long"]);
 }
 
+// "DoEvents function": it "yields execution so that the operating system can process other
+// events" and returns "zero in all other applications" than stand-alone Visual Basic, so in
+// Excel `DoEvents` in a loop does nothing a macro sees and `n = DoEvents` is 0. Real macros call
+// it in their long loops; it was "no Sub named DoEvents".
+#[test]
+fn do_events_yields_and_answers_zero() {
+    let out = run(
+        "Sub Main()\n    Dim i As Long, n\n    For i = 1 To 3\n        DoEvents\n        s = s & i\n    Next\n    \
+                   n = DoEvents()\n    Debug.Print s; n; DoEvents\nEnd Sub\n",
+    );
+    assert_eq!(out.printed, ["123 0  0 "]);
+}

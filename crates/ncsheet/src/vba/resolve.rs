@@ -1189,7 +1189,7 @@ impl Build<'_> {
     /// VBA's functions that are called without parentheses (`Debug.Print Now`): the bare
     /// name, when no variable has it, is the call, as in VBA.
     fn bare_function(&self, pair: &Pair<Rule>, link: &Link) -> Res<Option<Expr>> {
-        const CALLED_BARE: [&str; 5] = ["now", "date", "time", "timer", "rnd"];
+        const CALLED_BARE: [&str; 6] = ["now", "date", "time", "timer", "rnd", "doevents"];
         let lower = lower_bare(&link.name);
         if !CALLED_BARE.contains(&lower.as_str()) {
             return Ok(None);
@@ -1270,6 +1270,13 @@ impl Build<'_> {
                 return Ok(self.node(Node::Path(path), at, end));
             }
             if statement {
+                // `DoEvents` on its own line, as real macros yield in their long loops: a
+                // library function whose answer no one needs.
+                if lower == "doevents" {
+                    if let Some(call) = self.bare_function(pair, &link)? {
+                        return Ok(call);
+                    }
+                }
                 return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
             }
             if lower == "error" {

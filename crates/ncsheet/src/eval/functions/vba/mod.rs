@@ -255,6 +255,14 @@ pub const FUNCTIONS: &[FnSpec] = &[
         "VBA.STRCONV(text, conversion)",
         "VBA StrConv: vbUpperCase (1), vbLowerCase (2), vbProperCase (3), vbUnicode (64), vbFromUnicode (128)",
     ),
+    FnSpec::value(
+        "VBA.DOEVENTS",
+        0,
+        0,
+        strings::do_events,
+        "VBA.DOEVENTS()",
+        "VBA DoEvents: yields to the system; 0, the open forms of an Office application",
+    ),
     FnSpec::value("VBA.TAN", 1, 1, tan, "VBA.TAN(angle)", "VBA Tan: tangent of an angle in radians"),
     FnSpec::value(
         "VBA.TIMER",

@@ -790,6 +790,14 @@ pub(super) fn error_text(values: &[Value]) -> Option<Value> {
     Some(Value::text(format!("Error {number}")))
 }
 
+/// `DoEvents` ("DoEvents function": "Yields execution so that the operating system can process
+/// other events", and returns "zero in all other applications" than stand-alone Visual Basic):
+/// a macro here has no events waiting, so it only answers 0. Real macros call it in long loops
+/// to keep Excel's window alive.
+pub fn do_events(_ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
+    Ok(Value::Number(0.0))
+}
+
 /// `Timer`: seconds since midnight by the document's clock (its settings' NOW).
 pub fn timer(ctx: &mut Ctx, _args: &[Expr]) -> XlResult<Value> {
     let now = ctx.env.now();
