@@ -398,22 +398,24 @@ fn endless_recursion_in_a_function_is_a_value_error() {
     assert_eq!(wb.value(0, at("A1")), Value::Error(XlError::Value));
 }
 
-/// A module the interpreter cannot read (here a statement cut short) leaves its functions
-/// `#NAME?`, and a note names the module, the place and the function a cell calls.
+/// A Function with a line the interpreter cannot read (here a statement cut short) fails
+/// when a cell calls it, as VBA compiles a procedure when it is first called: its cells are
+/// `#VALUE!`, as a UDF that cannot run gives, with a note naming the cell, the module and the
+/// place; the module's other Functions compute.
 #[test]
-fn a_module_that_does_not_parse_is_named_when_a_cell_calls_its_function() {
+fn a_function_that_does_not_parse_is_named_when_a_cell_calls_it() {
     let dir = tempfile::tempdir().unwrap();
     let d = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
-    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = * Collection\r\n    Bad = 1\r\nEnd Function\r\n";
+    let bas = "Attribute VB_Name = \"Broken\"\r\nFunction Bad()\r\n    Dim h\r\n    Set h = * Collection\r\n    Bad = 1\r\nEnd Function\r\n\
+               Function Good()\r\n    Good = 2\r\nEnd Function\r\n";
     std::fs::write(d("broken.bas"), bas).unwrap();
-    std::fs::write(d("b.csv"), "x,=Bad()\n").unwrap();
+    std::fs::write(d("b.csv"), "x,=Bad(),=Good()\n").unwrap();
     assert_eq!(common::cli::ncsheet(&["set", &d("b.csv"), "A2=1", "-o", &d("b.xlsx")]).code, 0);
     let made = common::cli::ncsheet(&["macros", &d("b.xlsx"), "--import", &d("broken.bas"), "-o", &d("b.xlsm")]);
     assert_eq!(made.code, 0, "{}", made.stderr);
-    let run = common::cli::ncsheet(&["eval", &d("b.xlsm"), "B1", "--format", "csv"]);
-    assert_eq!(run.stdout.trim(), "#NAME?");
-    assert!(run.stderr.contains("note: module Broken: 4:13: "), "{}", run.stderr);
-    assert!(run.stderr.contains("(Bad …) are #NAME?"), "{}", run.stderr);
+    let run = common::cli::ncsheet(&["eval", &d("b.xlsm"), "B1:C1", "--format", "csv"]);
+    assert_eq!(run.stdout.trim(), "#VALUE!,2");
+    assert!(run.stderr.contains("Sheet1!B1: #VALUE!: Broken:4:13: syntax error"), "{}", run.stderr);
 }
 
 /// "Understanding parameter arrays": a Function with a ParamArray takes any number of

@@ -176,6 +176,39 @@ fn a_procedure_that_does_not_compile_fails_only_when_run() {
     assert_eq!(e.output.printed, ["before"]);
 }
 
+// The same holds for a line the grammar cannot read: "Compile on demand" compiles a procedure
+// when it is called, so a line of one procedure that does not parse fails that procedure
+// when it runs, at its own line and column, and the module's other macros run.
+#[test]
+fn a_procedure_with_a_line_that_does_not_parse_fails_only_when_run() {
+    let broken = "Function Broken()\n    Dim g\n    g = 1 +\n    Broken = g\nEnd Function\n";
+    let main = "Sub Main()\n    Debug.Print 3 + 4\nEnd Sub\n";
+    assert_eq!(run(&format!("{broken}{main}")).printed, [" 7 "]);
+    let calls = "Sub Main()\n    Debug.Print \"before\"\n    On Error Resume Next\n    x = Broken()\nEnd Sub\n";
+    let e = run_with(&format!("{broken}{calls}"), &RunOptions::default()).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::Syntax, "a compile error is not trapped: {e}");
+    let span = e.span.unwrap();
+    assert_eq!((span.line, span.col), (3, 12), "{e}");
+    assert_eq!(e.output.printed, ["before"]);
+    // A line outside every procedure still fails the module, as VBA's module-level
+    // declarations compile with the first call into it.
+    let e = run_with(&format!("Dim x As\n{main}"), &RunOptions::default()).unwrap_err();
+    assert_eq!((e.kind, e.span.unwrap().line), (ErrorKind::Syntax, 1), "{e}");
+}
+
+// "Property Get statement", "Property Let statement": a procedure may be written on one line,
+// its statements after colons (`Property Get X(): X = m: End Property`), as the VBE keeps it.
+#[test]
+fn a_procedure_on_one_line_runs() {
+    let class = "Private m As Double\n\
+                 Public Property Get X() As Double: X = m: End Property\n\
+                 Public Property Let X(v As Double): m = v * 2: End Property\n\
+                 Public Function Twice(): Twice = 2 * m: End Function\n";
+    let main = "Sub Show(s): Debug.Print s: End Sub\n\
+                Sub Main()\n    Dim p As New CPoint\n    p.X = 1.5\n    Show p.X\n    Show p.Twice()\nEnd Sub\n";
+    let options = RunOptions { classes: vec![("CPoint".into(), class.into())], ..RunOptions::default() };
+    assert_eq!(run_with(main, &options).unwrap_or_else(|e| panic!("{e}")).printed, [" 3 ", " 6 "]);
+}
 
 // "Miscellaneous constants": vbNewLine is Chr(13) + Chr(10), vbLf Chr(10) alone.
 #[test]

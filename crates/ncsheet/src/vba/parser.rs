@@ -7,6 +7,7 @@
 
 use crate::formula::limits;
 use std::cell::{Cell, RefCell};
+use std::ops::Range;
 use std::rc::Rc;
 
 use pest::iterators::Pair;
@@ -107,8 +108,35 @@ pub fn parse_module_with_files(
 ) -> Result<Module, SyntaxError> {
     super::count(&super::SOURCE_PARSED, src.len() as u64);
     let prepared = super::conditional::prepare(src)?;
-    let src = &*prepared;
-    let mut pairs = module_pairs(src)?;
+    let reader = Reader { sheets, objects, parts, files };
+    match module_pairs(&prepared) {
+        Ok(pairs) => build_module(&prepared, pairs, Vec::new(), reader),
+        Err(first) => {
+            let (blanked, confined) = confine_to_procedures(&prepared, first)?;
+            let pairs = module_pairs(&blanked)?;
+            build_module(&blanked, pairs, confined, reader)
+        }
+    }
+}
+
+/// What [`parse_module_with_files`] reads a module with, beside its text.
+#[derive(Clone, Copy)]
+struct Reader<'r> {
+    sheets: &'r dyn Fn(&str) -> Option<SheetId>,
+    objects: &'r [String],
+    parts: &'r [Part],
+    files: bool,
+}
+
+/// The module `src` as the grammar read it (`pairs`); `confined`: the procedures the grammar
+/// refused, by the byte range of their first line, each with its error ([`confine_to_procedures`]).
+fn build_module(
+    src: &str,
+    mut pairs: pest::iterators::Pairs<'_, Rule>,
+    mut confined: Vec<Confined>,
+    reader: Reader,
+) -> Result<Module, SyntaxError> {
+    let Reader { sheets, objects, parts, files } = reader;
     let module = pairs.next().expect("module rule");
     let items: Vec<Pair<Rule>> = module.into_inner().collect();
     let mut b = Build::new(src, sheets, &items, parts)?;
@@ -155,9 +183,10 @@ pub fn parse_module_with_files(
             // compiles a procedure when it is first called.
             Rule::sub_def | Rule::function_def | Rule::property_def => {
                 b.current_part.set(b.part_at(start(&item)));
-                let p = match b.proc(item.clone()) {
-                    Ok(p) => p,
-                    Err(e) => b.failed_proc(&item, e),
+                let refused = confined.iter().position(|(head, _)| head.contains(&start(&item)));
+                let p = match refused.map(|k| confined.swap_remove(k).1) {
+                    Some(e) => b.failed_proc(&item, e),
+                    None => b.proc(item.clone()).unwrap_or_else(|e| b.failed_proc(&item, e)),
                 };
                 out.procs.push(p);
             }
@@ -204,22 +233,119 @@ fn module_pairs(src: &str) -> Res<pest::iterators::Pairs<'_, Rule>> {
     FormulaGrammar::parse(Rule::module, src).map_err(from_pest)
 }
 
-/// The first error of the grammar in module `src` read on its own, its names not resolved.
+/// The first error of the grammar in module `src` read on its own, its names not resolved,
+/// that no procedure confines ([`confine_to_procedures`]).
 pub(super) fn grammar_error(src: &str) -> Option<SyntaxError> {
     super::count(&super::SOURCE_PARSED, src.len() as u64);
     let prepared = match super::conditional::prepare(src) {
         Ok(prepared) => prepared,
         Err(e) => return Some(e),
     };
-    module_pairs(&prepared).err()
+    let first = module_pairs(&prepared).err()?;
+    confine_to_procedures(&prepared, first).err()
 }
 
-/// Whether a module's text is in the language's grammar (a procedure of it may still fail to
-/// compile, when it runs): a class module that is not (`Implements`, `Event` …) is left out
-/// of the project rather than failing every module joined with it.
+/// Whether a module's text is in the language's grammar, but for procedures that fail when
+/// they run: a class module that is not (`Implements`, `Event` at module level …) is left
+/// out of the project rather than failing every module joined with it.
 pub(super) fn in_grammar(src: &str) -> bool {
-    let Ok(prepared) = super::conditional::prepare(src) else { return false };
-    FormulaGrammar::parse(Rule::module, &prepared).is_ok()
+    grammar_error(src).is_none()
+}
+
+/// A procedure the grammar refused: the byte range of its first line, and the error.
+type Confined = (Range<usize>, ParseError);
+
+/// How many procedures of one module the grammar may refuse before the module fails: each
+/// costs one more reading of the module.
+const MAX_CONFINED_PROCEDURES: usize = 32;
+
+/// Module `src` with the body of each procedure the grammar refuses blanked (a space for each
+/// byte but line ends, so every offset and line stays), and the grammar's error for each, by
+/// the byte range of the procedure's first line: VBA compiles a procedure when it first runs,
+/// so a line ncsheet cannot read fails its procedure when called, not the whole module and
+/// every macro beside it. `Err` the grammar's error where it is in no procedure's body (a
+/// module-level line, a procedure's first line, a missing `End Sub`), or past
+/// [`MAX_CONFINED_PROCEDURES`].
+fn confine_to_procedures(src: &str, first: ParseError) -> Res<(String, Vec<Confined>)> {
+    let mut text = src.to_string();
+    let mut confined: Vec<Confined> = Vec::new();
+    let mut error = first;
+    loop {
+        let Some((head, body)) = procedure_around(&text, error.offset) else { return Err(error) };
+        if confined.len() == MAX_CONFINED_PROCEDURES || confined.iter().any(|(h, _)| *h == head) {
+            return Err(error);
+        }
+        blank(&mut text, body);
+        confined.push((head, error));
+        match module_pairs(&text) {
+            Ok(_) => return Ok((text, confined)),
+            Err(e) => error = e,
+        }
+    }
+}
+
+/// The procedure whose body holds byte `offset` of `src`: the byte range of its first line
+/// (with the lines that line continues on) and of its body, the lines after it up to its
+/// `End` line. `None` when `offset` is on no body line or the `End` line.
+fn procedure_around(src: &str, offset: usize) -> Option<(Range<usize>, Range<usize>)> {
+    let lines: Vec<Range<usize>> = line_ranges(src).collect();
+    let at = lines.iter().position(|l| offset < l.end || l.end == src.len())?;
+    let line = |k: usize| &src[lines[k].clone()];
+    let mut head = (0..=at).rev().find(|&k| is_procedure_head(line(k)) || (k < at && is_procedure_end(line(k))))?;
+    if !is_procedure_head(line(head)) {
+        return None;
+    }
+    let head_range = lines[head].start..lines[head].end;
+    while line(head).trim_end().ends_with(" _") && head + 1 < lines.len() {
+        head += 1;
+    }
+    let end = (at..lines.len()).find(|&k| is_procedure_end(line(k)) || (k > at && is_procedure_head(line(k))))?;
+    if head >= at || !is_procedure_end(line(end)) {
+        return None;
+    }
+    Some((head_range, lines[head].end..lines[end].start))
+}
+
+/// The byte ranges of `src`'s lines, each with its line end.
+fn line_ranges(src: &str) -> impl Iterator<Item = Range<usize>> + '_ {
+    let mut from = 0;
+    src.split_inclusive('\n').map(move |l| {
+        let range = from..from + l.len();
+        from = range.end;
+        range
+    })
+}
+
+/// `[Public|Private|Friend|Global] [Static] Sub|Function|Property Get|Let|Set name…`.
+fn is_procedure_head(line: &str) -> bool {
+    let mut words = line.split_whitespace().map(str::to_ascii_lowercase).peekable();
+    words.next_if(|w| matches!(w.as_str(), "public" | "private" | "friend" | "global"));
+    words.next_if(|w| w == "static");
+    match words.next().as_deref() {
+        Some("sub" | "function") => words.next().is_some(),
+        Some("property") => words.next().is_some_and(|w| matches!(w.as_str(), "get" | "let" | "set")),
+        _ => false,
+    }
+}
+
+/// `End Sub`, `End Function`, `End Property`, alone on their line but for a comment.
+fn is_procedure_end(line: &str) -> bool {
+    let mut words = line.split_whitespace().map(str::to_ascii_lowercase);
+    words.next().as_deref() == Some("end")
+        && words.next().is_some_and(|w| matches!(w.as_str(), "sub" | "function" | "property"))
+        && words.next().is_none_or(|w| w.starts_with('\''))
+}
+
+/// `text` with the bytes of `range` made spaces, its line ends kept.
+fn blank(text: &mut String, range: Range<usize>) {
+    let spaced: String = text[range.clone()]
+        .chars()
+        .flat_map(|c| {
+            let keep = matches!(c, '\r' | '\n');
+            std::iter::repeat_n(if keep { c } else { ' ' }, if keep { 1 } else { c.len_utf8() })
+        })
+        .collect();
+    text.replace_range(range, &spaced);
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
