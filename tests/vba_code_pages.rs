@@ -64,6 +64,29 @@ fn a_new_project_takes_the_code_page_its_module_is_guessed_to_be_in() {
     assert!(ran.code == 0 && ran.stderr.lines().any(|l| l == printed_line()), "{}", ran.stderr);
 }
 
+/// "Print # statement" writes in the system's ANSI code page: a module whose code page is
+/// guessed from its text (no --code-page, no project) came from a machine with that code page,
+/// so its Print # writes the Cyrillic text in Windows-1251 too, the bytes Python's
+/// `'Сумма прописью'.encode('cp1251')` gives, where it was refused as no Windows-1252 text.
+#[test]
+fn a_guessed_modules_text_files_are_written_in_its_code_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bas = b"Sub Main()\r\n    Open \"out.txt\" For Output As #1\r\n    Print #1, \"".to_vec();
+    bas.extend_from_slice(CP1251_TEXT);
+    bas.extend_from_slice(b"\"\r\n    Close #1\r\nEnd Sub\r\n");
+    let module = dir.path().join("writer.bas");
+    std::fs::write(&module, bas).unwrap();
+    let book = dir.path().join("book.csv");
+    std::fs::write(&book, "x\n").unwrap();
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let ran = ncsheet(&["run", text(&book), text(&module), "--out-dir", text(&out)]);
+    assert_eq!(ran.code, 0, "{}", ran.stderr);
+    assert!(ran.stderr.contains("writer.bas: read in code page 1251, guessed"), "{}", ran.stderr);
+    let written = std::fs::read(out.join("out.txt")).unwrap();
+    assert_eq!(written, [CP1251_TEXT, b"\r\n"].concat());
+}
+
 #[test]
 fn a_module_in_the_code_page_named_imports_into_a_project_of_that_code_page_and_runs() {
     let (dir, bas, book) = setup();

@@ -34,7 +34,8 @@ pub struct MacrosArgs {
     /// Western, 1251 Cyrillic, 932 Japanese, 936 Simplified Chinese, 949 Korean, 950 Traditional
     /// Chinese; readable: 874, 932, 936, 949, 950, 1250-1258, 10000, 20866, 28591-28599, 65001).
     /// A new project is written in it. Default: the workbook's own VBA project's; without one, a
-    /// file with bytes past ASCII that is not UTF-8 is refused at the first
+    /// file with bytes past ASCII that is not UTF-8 is read in the code page its text is
+    /// guessed to be in (said on stderr), or refused at its first such byte when none fits
     #[arg(long = "code-page", visible_alias = "codepage", value_name = "N", requires = "import",
           value_parser = parse_code_page)]
     pub code_page: Option<u16>,
@@ -152,7 +153,7 @@ const NEW_PROJECT_CODE_PAGE: u16 = 1252;
 
 /// The code page the first module file in an ANSI code page is guessed to be in: a new project
 /// is written in it, so a Cyrillic module is stored as a Russian Excel stores it.
-fn first_guessed_code_page(modules: &[PathBuf]) -> Option<u16> {
+pub(super) fn first_guessed_code_page(modules: &[PathBuf]) -> Option<u16> {
     modules.iter().find_map(|m| std::fs::read(m).ok().and_then(|bytes| guessed_code_page(&bytes)))
 }
 

@@ -49,7 +49,8 @@ pub struct RunArgs {
     /// Simplified Chinese, 949 Korean, 950 Traditional Chinese; readable: 874, 932, 936, 949, 950,
     /// 1250-1258, 10000, 20866, 28591-28599, 65001); the macro's text files (Print #, Line
     /// Input #) are written and read in it too. Default: the workbook's own VBA project's;
-    /// without one, a file with bytes past ASCII that is not UTF-8 is refused at the first
+    /// without one, a file with bytes past ASCII that is not UTF-8 is read in the code page its text is
+    /// guessed to be in (said on stderr), or refused at its first such byte when none fits
     #[arg(long = "code-page", visible_alias = "codepage", value_name = "N",
           value_parser = super::macros::parse_code_page)]
     pub code_page: Option<u16>,
@@ -246,7 +247,7 @@ fn run_on_this_thread(mut args: RunArgs, delimiter: Option<u8>) -> Result<()> {
         project: other_modules(&args, project, file, code_page)?,
         classes: class_modules(&args, project, code_page)?,
         workbook_name: args.workbook.file_name().and_then(|n| n.to_str()).map(str::to_string),
-        code_page,
+        code_page: code_page.or_else(|| guessed_code_page(&args)),
         files: macro_files::access(
             args.out_dir.as_deref(),
             &args.in_files,
@@ -423,6 +424,14 @@ fn same_folder(a: &std::path::Path, b: &std::path::Path) -> bool {
 
 fn module_code_page(args: &RunArgs, project: super::macros::WorkbookProject) -> Option<u16> {
     args.code_page.or_else(|| project.read.and_then(|p| p.ok()).map(|p| p.code_page))
+}
+
+/// The code page the macro's own files were read in by a guess from their text, when neither
+/// `--code-page` nor a project names one: the code page of the machine that wrote them, whose
+/// `Print #` wrote its text files in it too.
+fn guessed_code_page(args: &RunArgs) -> Option<u16> {
+    let files: Vec<PathBuf> = args.macro_file.iter().chain(&args.modules).cloned().collect();
+    super::macros::first_guessed_code_page(&files)
 }
 
 /// The macro's place (for messages), its source, the Sub to call and the document its module
