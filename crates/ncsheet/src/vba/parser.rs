@@ -106,7 +106,6 @@ pub fn parse_module_with_files(
     parts: &[Part],
     files: bool,
 ) -> Result<Module, SyntaxError> {
-    super::count(&super::SOURCE_PARSED, src.len() as u64);
     let prepared = super::conditional::prepare(src)?;
     let reader = Reader { sheets, objects, parts, files };
     match module_pairs(&prepared) {
@@ -228,6 +227,8 @@ fn build_module(
 /// The items of module `src` (its conditional compilation already applied) as the grammar
 /// reads them, after the checks that keep its nesting within the parser's stack.
 fn module_pairs(src: &str) -> Res<pest::iterators::Pairs<'_, Rule>> {
+    // Every reading of source by the grammar, whole modules and procedures read alone.
+    super::count(&super::SOURCE_PARSED, src.len() as u64);
     limits::check_nesting(src, limits::Language::Macro)?;
     limits::check_block_nesting(src)?;
     FormulaGrammar::parse(Rule::module, src).map_err(from_pest)
@@ -236,13 +237,15 @@ fn module_pairs(src: &str) -> Res<pest::iterators::Pairs<'_, Rule>> {
 /// The first error of the grammar in module `src` read on its own, its names not resolved,
 /// that no procedure confines ([`confine_to_procedures`]).
 pub(super) fn grammar_error(src: &str) -> Option<SyntaxError> {
-    super::count(&super::SOURCE_PARSED, src.len() as u64);
     let prepared = match super::conditional::prepare(src) {
         Ok(prepared) => prepared,
         Err(e) => return Some(e),
     };
     let first = module_pairs(&prepared).err()?;
-    confine_to_procedures(&prepared, first).err()
+    match confine_to_procedures(&prepared, first) {
+        Ok((blanked, _)) => module_pairs(&blanked).err(),
+        Err(e) => Some(e),
+    }
 }
 
 /// Whether a module's text is in the language's grammar, but for procedures that fail when
@@ -255,55 +258,85 @@ pub(super) fn in_grammar(src: &str) -> bool {
 /// A procedure the grammar refused: the byte range of its first line, and the error.
 type Confined = (Range<usize>, ParseError);
 
-/// How many procedures of one module the grammar may refuse before the module fails: each
-/// costs one more reading of the module.
-const MAX_CONFINED_PROCEDURES: usize = 32;
-
 /// Module `src` with the body of each procedure the grammar refuses blanked (a space for each
 /// byte but line ends, so every offset and line stays), and the grammar's error for each, by
 /// the byte range of the procedure's first line: VBA compiles a procedure when it first runs,
 /// so a line ncsheet cannot read fails its procedure when called, not the whole module and
-/// every macro beside it. `Err` the grammar's error where it is in no procedure's body (a
-/// module-level line, a procedure's first line, a missing `End Sub`), or past
-/// [`MAX_CONFINED_PROCEDURES`].
+/// every macro beside it. `first`: the grammar's first error in the whole module; `Err` it
+/// where it is in no procedure's body or `End` line (a module-level line, a procedure's first
+/// line, a missing `End Sub`), or the error of a procedure whose first line is what fails.
+/// Each procedure from the one `first` is in on is read alone, once, so that the work stays
+/// that of reading the module twice however many procedures fail; the caller reads the
+/// blanked module, which may still fail where the trouble was not the procedure's own.
 fn confine_to_procedures(src: &str, first: ParseError) -> Res<(String, Vec<Confined>)> {
+    let procedures = procedures_by_line(src);
+    let Some(from) = procedures.iter().position(|p| p.confines(first.offset)) else { return Err(first) };
     let mut text = src.to_string();
     let mut confined: Vec<Confined> = Vec::new();
-    let mut error = first;
-    loop {
-        let Some((head, body)) = procedure_around(&text, error.offset) else { return Err(error) };
-        if confined.len() == MAX_CONFINED_PROCEDURES || confined.iter().any(|(h, _)| *h == head) {
+    for p in &procedures[from..] {
+        let Err(mut error) = module_pairs(&src[p.whole.clone()]) else { continue };
+        error.offset += p.whole.start;
+        if !p.confines(error.offset) {
             return Err(error);
         }
-        blank(&mut text, body);
-        confined.push((head, error));
-        match module_pairs(&text) {
-            Ok(_) => return Ok((text, confined)),
-            Err(e) => error = e,
-        }
+        blank(&mut text, p.body.clone());
+        confined.push((p.head.clone(), error));
+    }
+    Ok((text, confined))
+}
+
+/// A procedure of a module as its lines show it, by byte ranges: its first line, its body
+/// (the lines after its first line, and those that line continues on, up to its `End` line),
+/// its `End` line, and the whole from its first line through its `End` line.
+struct ProcedureLines {
+    head: Range<usize>,
+    body: Range<usize>,
+    end: Range<usize>,
+    whole: Range<usize>,
+}
+
+impl ProcedureLines {
+    /// An error at byte `at` is the procedure's own, set aside with its body: in the body, or
+    /// on the `End` line where a block left open is found.
+    fn confines(&self, at: usize) -> bool {
+        self.body.start <= at && at <= self.end.end
     }
 }
 
-/// The procedure whose body holds byte `offset` of `src`: the byte range of its first line
-/// (with the lines that line continues on) and of its body, the lines after it up to its
-/// `End` line. `None` when `offset` is on no body line or the `End` line.
-fn procedure_around(src: &str, offset: usize) -> Option<(Range<usize>, Range<usize>)> {
+/// The procedures of module `src` that end with an `End` line of their own, found by their
+/// first and last lines alone (no grammar): one written on one line is not among them, nor
+/// one whose `End` line is missing.
+fn procedures_by_line(src: &str) -> Vec<ProcedureLines> {
     let lines: Vec<Range<usize>> = line_ranges(src).collect();
-    let at = lines.iter().position(|l| offset < l.end || l.end == src.len())?;
     let line = |k: usize| &src[lines[k].clone()];
-    let mut head = (0..=at).rev().find(|&k| is_procedure_head(line(k)) || (k < at && is_procedure_end(line(k))))?;
-    if !is_procedure_head(line(head)) {
-        return None;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < lines.len() {
+        if !is_procedure_head(line(k)) || ends_on_its_line(line(k)) {
+            k += 1;
+            continue;
+        }
+        let mut last = k;
+        while line(last).trim_end().ends_with(" _") && last + 1 < lines.len() {
+            last += 1;
+        }
+        match (last + 1..lines.len()).find(|&m| is_procedure_end(line(m)) || is_procedure_head(line(m))) {
+            Some(m) if is_procedure_end(line(m)) => {
+                let (head, end) = (lines[k].clone(), lines[m].clone());
+                out.push(ProcedureLines { body: lines[last].end..end.start, whole: head.start..end.end, head, end });
+                k = m + 1;
+            }
+            Some(m) => k = m,
+            None => break,
+        }
     }
-    let head_range = lines[head].start..lines[head].end;
-    while line(head).trim_end().ends_with(" _") && head + 1 < lines.len() {
-        head += 1;
-    }
-    let end = (at..lines.len()).find(|&k| is_procedure_end(line(k)) || (k > at && is_procedure_head(line(k))))?;
-    if head >= at || !is_procedure_end(line(end)) {
-        return None;
-    }
-    Some((head_range, lines[head].end..lines[end].start))
+    out
+}
+
+/// A procedure written on one line: `Property Get X(): X = m: End Property`.
+fn ends_on_its_line(line: &str) -> bool {
+    let lower = line.trim_end().to_ascii_lowercase();
+    lower.contains(':') && ["end sub", "end function", "end property"].iter().any(|e| lower.ends_with(e))
 }
 
 /// The byte ranges of `src`'s lines, each with its line end.
