@@ -1695,3 +1695,16 @@ fn do_events_yields_and_answers_zero() {
     );
     assert_eq!(out.printed, ["123 0  0 "]);
 }
+
+// "Beep statement" sounds a tone, "Application.Wait method" pauses the macro until a time,
+// and `Calculate` alone is Excel's global Application.Calculate ("Application.Calculate
+// method"): none changes a value or a file, so a macro runs on past them; they were "no Sub
+// named Beep", "no Sub named Calculate" and Application.Wait refused as not modelled.
+#[test]
+fn beep_wait_and_calculate_run_on() {
+    let mut wb = Workbook::with_sheet();
+    let src = "Sub Main()\n    [A1] = 2\n    [B1] = \"=A1*3\"\n    Beep\n    Calculate\n    \
+               Application.Wait Now + TimeValue(\"0:00:01\")\n    Debug.Print [B1].Value\nEnd Sub\n";
+    let out = vba::run(&mut wb, src, "Module1.bas", &RunOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(out.printed, [" 6 "]);
+}

@@ -1277,6 +1277,17 @@ impl Build<'_> {
                         return Ok(call);
                     }
                 }
+                // `Calculate` alone is Excel's global member, Application.Calculate.
+                if lower == "calculate" {
+                    let application = Link { name: "Application".into(), args: None, span: link.span };
+                    let path = Path { with: false, links: vec![application, link], span: self.span(at) };
+                    return Ok(self.node(Node::Path(path), at, end));
+                }
+                // "Beep statement": a tone through the computer's speaker, which changes nothing
+                // a macro computes or writes.
+                if lower == "beep" {
+                    return Ok(self.node(Node::Empty, at, end));
+                }
                 return Err(self.error_at(pair, format!("no Sub named {}", link.name)));
             }
             if lower == "error" {

@@ -64,6 +64,9 @@ const HARMLESS: &[(Owner, &str, Harmless)] = &[
     (Owner::App, "calculatebeforesave", Harmless::Setting(Some(Read::Bool(true)))),
     (Owner::App, "calculatefull", Harmless::Method),
     (Owner::App, "calculatefullrebuild", Harmless::Method),
+    // "Application.Wait method": pauses the macro until a time; no value or file depends on
+    // the pause, and ncsheet's run is not paced by the clock.
+    (Owner::App, "wait", Harmless::Method),
     // "Application.Cursor": xlDefault (-4143).
     (Owner::App, "cursor", Harmless::Setting(Some(Read::Number(-4143.0)))),
     (Owner::App, "interactive", Harmless::Setting(Some(Read::Bool(true)))),
