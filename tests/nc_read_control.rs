@@ -446,13 +446,13 @@ fn fanuc_subprograms_no_call_runs_are_stored_and_noted_not_refused() {
     let stored = read::read(&with_library, Family::Fanuc, None).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(stored.blocks, alone.blocks);
     assert_eq!(
-        read::notes(&with_library, Family::Fanuc),
+        read::read_noted(&with_library, Family::Fanuc, None).unwrap().2,
         [
             "line 6: O2000 stored, not called by the main program",
             "line 10: O3000 stored, not called by the main program"
         ]
     );
-    assert!(read::notes(main, Family::Fanuc).is_empty());
+    assert!(read::read_noted(main, Family::Fanuc, None).unwrap().2.is_empty());
     // The command line says so on stderr, and times the main program alone.
     assert_eq!(cycle_time("library.nc", &with_library), cycle_time("main.nc", main));
     let dir = tempfile::tempdir().unwrap();

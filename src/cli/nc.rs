@@ -13,7 +13,7 @@ use clap::{Args, Subcommand};
 use ncsheet::nc::dda::{self, DdaRun};
 use ncsheet::nc::dialect::{self, Dialect};
 use ncsheet::nc::motion::{self, BlockTime, Rates};
-use ncsheet::nc::read::{self, detect};
+use ncsheet::nc::read::detect;
 use ncsheet::nc::{ArcDirection, Machine, Program};
 
 use super::report::{Error, Result};
@@ -86,7 +86,7 @@ pub(super) fn read_program(
             guess.dialect
         }
     };
-    let (program, lines) = read::read_dialect(&text, dialect, machine).map_err(|e| {
+    let (program, lines, notes) = dialect.read_noted(&text, machine).map_err(|e| {
         let others = detect::readers_accepting(&text, dialect, machine);
         let read_as = dialect.name();
         let hint = match others.first() {
@@ -95,7 +95,7 @@ pub(super) fn read_program(
         };
         Error::User(format!("{name}: {e}{hint}"))
     })?;
-    for note in dialect.notes(&text) {
+    for note in notes {
         eprintln!("{name}: {note}");
     }
     Ok((program, lines, name, dialect))

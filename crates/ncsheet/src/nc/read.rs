@@ -140,16 +140,6 @@ pub fn read(text: &str, family: Family, machine: Option<Machine>) -> Result<Prog
     read_with_lines(text, family, machine).map(|(p, _)| p)
 }
 
-/// What reading `text` as `family` keeps without running, one note a line for stderr: a Fanuc
-/// file's subprograms that no M98 calls (stored, as a control stores them). Empty when the
-/// file does not read.
-pub fn notes(text: &str, family: Family) -> Vec<String> {
-    match family {
-        Family::Fanuc => fanuc_calls::unroll(text).map(|u| u.notes()).unwrap_or_default(),
-        _ => Vec::new(),
-    }
-}
-
 /// [`read`], with the 1-based source line of each block of the model (for messages about a
 /// block found later, e.g. by the motion planner).
 pub fn read_with_lines(
@@ -157,6 +147,17 @@ pub fn read_with_lines(
     family: Family,
     machine: Option<Machine>,
 ) -> Result<(Program, Vec<usize>), ReadError> {
+    read_noted(text, family, machine).map(|(program, lines, _)| (program, lines))
+}
+
+/// [`read_with_lines`], and what the reading kept of `text` without running it, one note a
+/// line for stderr: a Fanuc file's subprograms that no M98 calls (stored, as a control stores
+/// them).
+pub fn read_noted(
+    text: &str,
+    family: Family,
+    machine: Option<Machine>,
+) -> Result<(Program, Vec<usize>, Vec<String>), ReadError> {
     if family == Family::Nc31 && machine == Some(Machine::Mill) {
         return Err(ReadError { line: 1, column: 1, message: "NC31 programs are for lathes".into() });
     }
@@ -297,7 +298,8 @@ pub fn read_with_lines(
     program.machine = st.machine.unwrap_or(Machine::Mill);
     program.precision = (decimals > DEFAULT_DECIMALS).then_some(decimals);
     program.radius_offset = st.radius_register.and_then(|(d, own)| (!own).then_some(d));
-    Ok((program, lines))
+    let notes = fanuc.as_ref().map(fanuc_calls::Unrolled::notes).unwrap_or_default();
+    Ok((program, lines, notes))
 }
 
 /// After a block that moved: with cutter compensation on, the plane's axes are off their

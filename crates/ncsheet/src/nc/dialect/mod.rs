@@ -60,10 +60,15 @@ pub trait Dialect: Sync {
     /// of each block; `machine` when known, else the reader decides from the program.
     fn read(&self, text: &str, machine: Option<Machine>) -> Result<(Program, Vec<usize>), ReadError>;
 
-    /// What [`read`](Dialect::read) keeps of `text` without running it, one note a line (a Fanuc
-    /// file's subprograms that no call runs); the command line prints them on stderr.
-    fn notes(&self, _text: &str) -> Vec<String> {
-        Vec::new()
+    /// [`read`](Dialect::read), and what the reading kept of `text` without running it, one
+    /// note a line (a Fanuc file's subprograms that no call runs); the command line prints
+    /// them on stderr.
+    fn read_noted(
+        &self,
+        text: &str,
+        machine: Option<Machine>,
+    ) -> Result<(Program, Vec<usize>, Vec<String>), ReadError> {
+        self.read(text, machine).map(|(program, lines)| (program, lines, Vec::new()))
     }
 }
 

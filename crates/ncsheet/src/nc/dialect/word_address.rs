@@ -175,8 +175,12 @@ impl Dialect for WordAddress {
         read::read_with_lines(text, self.family, machine)
     }
 
-    fn notes(&self, text: &str) -> Vec<String> {
-        read::notes(text, self.family)
+    fn read_noted(
+        &self,
+        text: &str,
+        machine: Option<Machine>,
+    ) -> Result<(Program, Vec<usize>, Vec<String>), ReadError> {
+        read::read_noted(text, self.family, machine)
     }
 
     fn render(&self, program: &Program) -> Result<String, NcError> {
