@@ -77,7 +77,7 @@ fn is_directive(text: &str) -> bool {
 }
 
 /// Every byte but the line's end a space (a character of several bytes, several spaces).
-fn blank(bytes: &mut [u8]) {
+pub(super) fn blank(bytes: &mut [u8]) {
     bytes.iter_mut().for_each(|b| *b = b' ');
 }
 

@@ -259,7 +259,8 @@ pub(super) fn in_grammar(src: &str) -> bool {
 type Confined = (Range<usize>, ParseError);
 
 /// Module `src` with the body of each procedure the grammar refuses blanked (a space for each
-/// byte but line ends, so every offset and line stays), and the grammar's error for each, by
+/// byte but line ends, so every offset and line stays, as `conditional::blank` leaves a
+/// skipped branch), and the grammar's error for each, by
 /// the byte range of the procedure's first line: VBA compiles a procedure when it first runs,
 /// so a line ncsheet cannot read fails its procedure when called, not the whole module and
 /// every macro beside it. `first`: the grammar's first error in the whole module; `Err` it
@@ -271,7 +272,7 @@ type Confined = (Range<usize>, ParseError);
 fn confine_to_procedures(src: &str, first: ParseError) -> Res<(String, Vec<Confined>)> {
     let procedures = procedures_by_line(src);
     let Some(from) = procedures.iter().position(|p| p.confines(first.offset)) else { return Err(first) };
-    let mut text = src.to_string();
+    let mut text = src.as_bytes().to_vec();
     let mut confined: Vec<Confined> = Vec::new();
     for p in &procedures[from..] {
         let Err(mut error) = module_pairs(&src[p.whole.clone()]) else { continue };
@@ -279,10 +280,15 @@ fn confine_to_procedures(src: &str, first: ParseError) -> Res<(String, Vec<Confi
         if !p.confines(error.offset) {
             return Err(error);
         }
-        blank(&mut text, p.body.clone());
+        // Each line of the body made spaces as a skipped `#If` branch is, its end kept.
+        for line in line_ranges(&src[p.body.clone()]) {
+            let code = src[p.body.start + line.start..p.body.start + line.end].trim_end_matches(['\r', '\n']);
+            let at = p.body.start + line.start;
+            super::conditional::blank(&mut text[at..at + code.len()]);
+        }
         confined.push((p.head.clone(), error));
     }
-    Ok((text, confined))
+    Ok((String::from_utf8(text).expect("whole lines blanked"), confined))
 }
 
 /// A procedure of a module as its lines show it, by byte ranges: its first line, its body
@@ -367,18 +373,6 @@ fn is_procedure_end(line: &str) -> bool {
     words.next().as_deref() == Some("end")
         && words.next().is_some_and(|w| matches!(w.as_str(), "sub" | "function" | "property"))
         && words.next().is_none_or(|w| w.starts_with('\''))
-}
-
-/// `text` with the bytes of `range` made spaces, its line ends kept.
-fn blank(text: &mut String, range: Range<usize>) {
-    let spaced: String = text[range.clone()]
-        .chars()
-        .flat_map(|c| {
-            let keep = matches!(c, '\r' | '\n');
-            std::iter::repeat_n(if keep { c } else { ' ' }, if keep { 1 } else { c.len_utf8() })
-        })
-        .collect();
-    text.replace_range(range, &spaced);
 }
 
 fn from_pest(err: pest::error::Error<Rule>) -> ParseError {
